@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// A BOP dataset on disk: ROOT/camera.json, ROOT/models/{models_info.json,
+// obj_NNNNNN.ply}, ROOT/SPLIT/SCENE(6 digits)/{scene_*.json, depth/IM.png}.
+
+#include <filesystem>
+#include <map>
+#include <vector>
+
+#include "core/common/expected.h"
+#include "core/common/image.h"
+#include "core/dataset/bop_types.h"
+#include "core/geometry/mesh.h"
+
+namespace ihf {
+
+class BopDataset
+{
+public:
+	// Opens ROOT and reads camera.json and models/models_info.json (if any).
+	// split defaults to the first of "test", "val", "train" that exists.
+	static Expected<BopDataset> open(const std::filesystem::path &root,
+					 const std::string &split = "");
+
+	const std::filesystem::path &root() const { return root_; }
+	const std::string &split() const { return split_; }
+	const BopCamera &camera() const { return camera_; }
+	const std::map<int, ModelInfo> &modelsInfo() const { return modelsInfo_; }
+
+	std::vector<int> sceneIds() const;
+	Expected<BopScene> loadScene(int sceneId) const;
+
+	std::filesystem::path sceneDir(int sceneId) const;
+	std::filesystem::path depthPath(int sceneId, int imId) const;
+	std::filesystem::path modelPath(int objId) const;
+
+	// Depth in millimetres (raw * depth_scale of the image, 0 = no data).
+	Expected<DepthImageMm> loadDepthMm(int sceneId, int imId, double depthScale) const;
+	Expected<Mesh> loadModel(int objId) const;
+
+private:
+	std::filesystem::path root_;
+	std::string split_;
+	BopCamera camera_;
+	std::map<int, ModelInfo> modelsInfo_;
+};
+
+// Writes a dataset skeleton: ROOT/camera.json and models_info.json.
+Status createBopDataset(const std::filesystem::path &root, const BopCamera &camera,
+			const std::map<int, ModelInfo> &modelsInfo);
+
+} // namespace ihf

@@ -1,0 +1,12 @@
+// SPDX-License-Identifier: MIT
+#include "firmware_app/command.h"
+
+namespace ihf::app {
+
+void addEvalCommand(CLI::App &root, Action &action)
+{
+	auto *cmd = root.add_subcommand("eval", "(being built)");
+	cmd->callback([&action] { action = [] { return kExitFailure; }; });
+}
+
+} // namespace ihf::app

@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: MIT
+#include "tests/common/test_paths.h"
+
+#include <array>
+#include <cstdio>
+#include <sys/wait.h>
+
+namespace ihf::test {
+
+CommandResult runIhf(const std::string &args)
+{
+	CommandResult result;
+	std::string cmd = "'" + ihfBinary().string() + "' " + args + " 2>&1";
+	FILE *pipe = popen(cmd.c_str(), "r");
+	if (!pipe)
+		return result;
+	std::array<char, 4096> buf;
+	size_t n;
+	while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0)
+		result.output.append(buf.data(), n);
+	int status = pclose(pipe);
+	result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+	return result;
+}
+
+} // namespace ihf::test

@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// Paths the build hands to every test: shared data, sources, the CLI.
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+namespace ihf::test {
+
+inline std::filesystem::path sharedDir() { return IHF_SHARED_DIR; }
+inline std::filesystem::path lmoDir() { return sharedDir() / "data" / "lmo"; }
+inline std::filesystem::path sourceDir() { return IHF_SOURCE_DIR; }
+inline std::filesystem::path ihfBinary() { return IHF_BINARY; }
+
+// A fresh, empty folder under the system temp dir for one test.
+inline std::filesystem::path freshTempDir(const std::string &name)
+{
+	auto dir = std::filesystem::temp_directory_path() / ("ihf_test_" + name);
+	std::filesystem::remove_all(dir);
+	std::filesystem::create_directories(dir);
+	return dir;
+}
+
+struct CommandResult {
+	int exitCode = -1;
+	std::string output; // stdout and stderr together
+};
+
+// Runs `ihf ARGS` through the shell, capturing stdout+stderr.
+CommandResult runIhf(const std::string &args);
+
+} // namespace ihf::test
