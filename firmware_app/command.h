@@ -22,5 +22,8 @@ using Action = std::function<int()>;
 void addSynthCommand(CLI::App &root, Action &action);
 void addEvalCommand(CLI::App &root, Action &action);
 void addRenderCommand(CLI::App &root, Action &action);
+void addForestCommand(CLI::App &root, Action &action);
+void addTrainCommand(CLI::App &root, Action &action);
+void addEstimateCommand(CLI::App &root, Action &action);
 
 } // namespace ihf::app

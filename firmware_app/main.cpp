@@ -16,8 +16,11 @@ int main(int argc, char **argv)
 
 	Action action;
 	addSynthCommand(root, action);
+	addTrainCommand(root, action);
+	addEstimateCommand(root, action);
 	addEvalCommand(root, action);
 	addRenderCommand(root, action);
+	addForestCommand(root, action);
 
 	try {
 		root.parse(argc, argv);

@@ -19,7 +19,9 @@ class BopDataset
 {
 public:
 	// Opens ROOT and reads camera.json and models/models_info.json (if any).
-	// split defaults to the first of "test", "val", "train" that exists.
+	// split defaults to the first of "test", "val", "train" that exists, or
+	// "test" if none does (a fresh skeleton to fill with saveScene()); a split
+	// named explicitly must exist.
 	static Expected<BopDataset> open(const std::filesystem::path &root,
 					 const std::string &split = "");
 
@@ -28,8 +30,14 @@ public:
 	const BopCamera &camera() const { return camera_; }
 	const std::map<int, ModelInfo> &modelsInfo() const { return modelsInfo_; }
 
+	// Scene folders (six-digit names) of the split, ascending.
 	std::vector<int> sceneIds() const;
+	// scene_camera.json and scene_gt.json are required, scene_gt_info.json
+	// optional (but must match scene_gt.json entry for entry). Camera
+	// width/height come from camera.json.
 	Expected<BopScene> loadScene(int sceneId) const;
+	// Writes the scene's JSON files into sceneDir() (gt_info only if not empty).
+	Status saveScene(const BopScene &scene) const;
 
 	std::filesystem::path sceneDir(int sceneId) const;
 	std::filesystem::path depthPath(int sceneId, int imId) const;

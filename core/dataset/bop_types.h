@@ -21,6 +21,12 @@ struct BopCamera {
 	double depthScale = 1.0; // raw depth * depthScale = millimetres
 };
 
+// One entry of symmetries_continuous: rotation about axis through offset (mm).
+struct ContinuousSymmetry {
+	Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+	Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+};
+
 // One entry of models/models_info.json.
 struct ModelInfo {
 	int objId = 0;
@@ -28,7 +34,8 @@ struct ModelInfo {
 	Eigen::Vector3d min = Eigen::Vector3d::Zero();
 	Eigen::Vector3d size = Eigen::Vector3d::Zero();
 	std::vector<Pose> symmetriesDiscrete; // 4x4 row-major in the file
-	bool hasContinuousSymmetry = false;
+	bool hasContinuousSymmetry = false; // symmetries_continuous present
+	std::vector<ContinuousSymmetry> symmetriesContinuous;
 	// Evaluated with ADI (closest point) instead of ADD.
 	bool symmetric() const { return hasContinuousSymmetry || !symmetriesDiscrete.empty(); }
 };

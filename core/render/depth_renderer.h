@@ -5,10 +5,14 @@
 // (and optional label) buffers. Depth is the camera Z in millimetres, 0 where
 // nothing was drawn; a pixel is covered when its centre (integer
 // coordinates, OpenCV convention) lies inside the projected triangle (top-left
-// fill rule), and its depth is interpolated perspective-correctly. Drawing
-// several meshes into the same buffers composes a scene: each call depth-tests
-// against what is already there. No allocation per call: the renderer keeps
-// scratch space sized at construction for a maximum vertex count.
+// fill rule, vertices snapped to 1/256 pixel), and its depth is the exact
+// intersection of the pixel's ray with the triangle's plane (1/z is linear in
+// the image). Back faces are drawn too (meshes may have inconsistent winding).
+// Triangles crossing the near plane are clipped against it, so a large plane
+// reaching behind the camera renders correctly. Drawing several meshes into
+// the same buffers composes a scene: each call depth-tests against what is
+// already there. No allocation per call: the renderer keeps scratch space
+// sized by reserve() for a maximum vertex count.
 
 #include <cstdint>
 #include <vector>
@@ -22,7 +26,10 @@
 namespace ihf {
 
 // Image-space window of the target buffer: the buffer's pixel (0, 0) is image
-// pixel (x0, y0). Lets inference render only into a crop.
+// pixel (x0, y0). Lets inference render only into a crop. Every pixel depends
+// only on its image coordinates, so a window render equals the same region of
+// a full render bit for bit. Windows must lie within
+// [-kMaxWindowCoord, kMaxWindowCoord) in both axes.
 struct RenderWindow {
 	int x0 = 0;
 	int y0 = 0;
@@ -30,13 +37,17 @@ struct RenderWindow {
 
 struct RenderStats {
 	int trianglesDrawn = 0;
-	int trianglesCulled = 0; // behind near plane, off-screen or degenerate
-	int pixelsWritten = 0;
+	// Behind the near plane, with no pixel centre inside the window, or
+	// degenerate (zero area in the image or in space).
+	int trianglesCulled = 0;
+	int pixelsWritten = 0; // depth-test passes, overdraw included
 };
 
 class DepthRenderer
 {
 public:
+	static constexpr int kMaxWindowCoord = 8192;
+
 	explicit DepthRenderer(size_t maxVertices = 0);
 
 	// Grows the scratch space (allocates); call at start-up, not per frame.
@@ -45,18 +56,29 @@ public:
 
 	// Renders mesh under pose with intrinsics K into depth (mm). If label is
 	// non-empty it must match depth's size, and covered pixels get labelValue.
-	// Returns kCapacity if the mesh has more vertices than reserved.
+	// Returns kCapacity if the mesh has more vertices than reserved,
+	// kOutOfRange for a face index past the vertex list, kInvalidArgument for
+	// bad intrinsics, near plane, buffer sizes or window.
 	Expected<RenderStats> render(const Mesh &mesh, const Pose &pose,
 				     const CameraIntrinsics &K, ImageView<float> depth,
 				     ImageView<uint16_t> label = {}, uint16_t labelValue = 0,
 				     RenderWindow window = {});
 
-	// Near plane in mm: triangles are clipped against it (a large supporting
-	// plane may reach behind the camera).
+	// Near plane in mm (> 0): triangles are clipped against it (a large
+	// supporting plane may reach behind the camera).
 	void setNearPlane(float nearMm) { near_ = nearMm; }
+	float nearPlane() const { return near_; }
 
 private:
-	std::vector<Eigen::Vector3f> projected_; // (u, v, z) per vertex
+	// Scratch per vertex, split so the per-triangle setup touches only the
+	// snapped image position (1/256 pixel, valid when flags is 0).
+	struct ScreenVertex {
+		int32_t sx, sy;
+		uint32_t flags;
+	};
+
+	std::vector<ScreenVertex> screen_;
+	std::vector<Eigen::Vector3f> camera_; // camera coordinates, mm
 	size_t capacity_ = 0;
 	float near_ = 1.0f;
 };

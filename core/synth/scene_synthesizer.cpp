@@ -1,1 +1,130 @@
 // SPDX-License-Identifier: MIT
+#include "core/synth/scene_synthesizer.h"
+
+#include <cmath>
+
+#include "core/synth/gt_info_builder.h"
+#include "core/synth/projector_shadow.h"
+
+namespace ihf {
+
+SceneSynthesizer::SceneSynthesizer(const ModelLibrary &library, const CameraIntrinsics &K,
+				   SynthParams params)
+	: library_(library), K_(K), params_(params),
+	  renderer_(K, std::max<size_t>(library.maxVertices(), 4096)),
+	  sampler_(library, K, params.layout)
+{
+	// Projector buffer reaches left of the image by the largest shift,
+	// fx b / z at the sensor's minimum range (nearer points are dropped).
+	projectorPad_ = projectorPadding(K_, params_.sensor.baselineMm,
+					 0.8 * params_.sensor.minRangeMm);
+	depth_ = DepthImageMm(K_.width, K_.height);
+	label_ = Image<uint16_t>(K_.width, K_.height);
+	projector_ = DepthImageMm(K_.width + projectorPad_, K_.height);
+}
+
+Expected<SynthImage> SceneSynthesizer::synthesize(int objId, int imageId)
+{
+	Error last = makeError(Errc::kOutOfRange, "");
+	for (int a = 0; a < params_.maxAttempts; ++a) {
+		const uint64_t key = mixSeed(mixSeed(mixSeed(params_.seed, static_cast<uint64_t>(objId)),
+						     static_cast<uint64_t>(imageId)),
+					     static_cast<uint64_t>(a));
+		SynthRandom rng(key);
+		auto img = attempt(objId, imageId, rng);
+		if (img) {
+			img->attempts = a + 1;
+			return img;
+		}
+		if (img.error().code != Errc::kOutOfRange)
+			return img.error();
+		last = img.error();
+	}
+	return makeError(Errc::kOutOfRange,
+			 "synth: object " + std::to_string(objId) + " image " +
+				 std::to_string(imageId) + ": no scene met the occlusion range after " +
+				 std::to_string(params_.maxAttempts) + " attempts (" + last.message + ")");
+}
+
+Expected<SynthImage> SceneSynthesizer::attempt(int objId, int imageId, SynthRandom &rng)
+{
+	SceneLayout layout = sampler_.sampleBase(objId, rng);
+	sampler_.addClutter(layout, objId, rng);
+
+	OcclusionGoal goal;
+	goal.min = params_.occlusionMin;
+	goal.max = params_.occlusionMax;
+	goal.goal = rng.uniform(goal.min, goal.max);
+	goal.tolerance = params_.occlusionTolerance;
+	goal.truncationProbability = params_.truncationProbability;
+	OcclusionController controller(sampler_, renderer_);
+	auto outcome = controller.apply(layout, goal, rng);
+	if (!outcome)
+		return outcome.error();
+	sampler_.addRoom(layout, rng);
+
+	// Camera and projector views of the whole scene.
+	const Pose &view = layout.view.worldToCamera;
+	Status st = renderer_.renderScene(layout, view, depth_.view(), label_.view());
+	if (!st)
+		return st.error();
+	st = renderer_.renderScene(layout, SceneRenderer::projectorView(view, params_.sensor.baselineMm),
+				   projector_.view(), {}, RenderWindow{-projectorPad_, 0});
+	if (!st)
+		return st.error();
+	auto sil = renderer_.silhouette(layout.objects[0], view);
+	if (!sil)
+		return sil.error();
+
+	// The occlusion as BOP measures it, from the final render.
+	int visible = 0;
+	for (uint16_t l : label_.pixels())
+		visible += l == sceneLabel(0) ? 1 : 0;
+	const double occlusion = sil->pxCountAll > 0 ? 1.0 - static_cast<double>(visible) / sil->pxCountAll : 1.0;
+	if (visible == 0 || occlusion < params_.occlusionMin - 1e-12 ||
+	    occlusion > params_.occlusionMax + 1e-12) {
+		char msg[96];
+		std::snprintf(msg, sizeof(msg), "occlusion %.3f outside [%.3f, %.3f]", occlusion,
+			      params_.occlusionMin, params_.occlusionMax);
+		return makeError(Errc::kOutOfRange, msg);
+	}
+
+	SynthImage img;
+	if (params_.idealSensor) {
+		img.depth = DepthImage16(K_.width, K_.height, 0);
+		for (int y = 0; y < K_.height; ++y)
+			for (int x = 0; x < K_.width; ++x)
+				img.depth.at(x, y) = static_cast<uint16_t>(
+					std::min(std::round(depth_.at(x, y) / params_.depthScale), 65535.0));
+	} else {
+		SensorScene scene;
+		scene.depth = depth_.view();
+		scene.label = label_.view();
+		scene.projector = projector_.view();
+		scene.projectorX0 = -projectorPad_;
+		scene.labelDropout.assign(layout.objects.size() + 1, 0.0f);
+		for (size_t i = 0; i < layout.objects.size(); ++i)
+			scene.labelDropout[sceneLabel(i)] = static_cast<float>(layout.objects[i].dropout);
+		img.depth = simulateKinect(scene, K_, params_.sensor, rng, params_.depthScale);
+	}
+
+	img.gt.objId = objId;
+	img.gt.pose = view * layout.objects[0].modelToWorld;
+	img.info = buildGtInfo(*sil, label_.view(), sceneLabel(0), img.depth);
+	img.detection = coarseDetection(img.info.bboxObj, K_.width, K_.height, objId, imageId, objId,
+					rng, params_.detection);
+	img.occlusionGoal = goal.goal;
+	img.outcome = *outcome;
+	int others = 0;
+	for (const SceneObject &o : layout.objects)
+		others += (o.role != SceneRole::kTarget && o.role != SceneRole::kRoom) ? 1 : 0;
+	img.objects = others;
+	if (params_.keepClean) {
+		img.cleanDepth = depth_;
+		img.cleanLabel = label_;
+		img.layout = layout;
+	}
+	return img;
+}
+
+} // namespace ihf

@@ -1,0 +1,146 @@
+// SPDX-License-Identifier: MIT
+#include "core/eval/eval_dataset.h"
+
+#include <cmath>
+#include <memory>
+#include <set>
+#include <string>
+#include <tuple>
+
+namespace ihf {
+
+namespace {
+
+using Triple = std::tuple<int, int, int>; // scene, image, object
+
+std::string rowName(const std::filesystem::path &file, size_t index, const ResultRow &row)
+{
+	return file.string() + ": data row " + std::to_string(index + 1) + " (scene_id " +
+	       std::to_string(row.sceneId) + ", im_id " + std::to_string(row.imId) +
+	       ", obj_id " + std::to_string(row.objId) + ")";
+}
+
+} // namespace
+
+Expected<EvalReport> evaluateOnDataset(const BopDataset &dataset,
+				       const std::vector<ResultRow> &results,
+				       const EvalRequest &request)
+{
+	const std::filesystem::path infoFile = dataset.root() / "models" / "models_info.json";
+	const std::map<int, ModelInfo> &info = dataset.modelsInfo();
+
+	// Which objects, each with a models_info entry.
+	std::set<int> objectIds;
+	if (!request.objects.empty()) {
+		for (int id : request.objects) {
+			if (!info.count(id))
+				return makeError(Errc::kNotFound,
+						 "object " + std::to_string(id) + " (--objects): no entry in " +
+							 infoFile.string());
+			objectIds.insert(id);
+		}
+	} else {
+		for (size_t i = 0; i < results.size(); ++i) {
+			const ResultRow &row = results[i];
+			if (!info.count(row.objId))
+				return makeError(Errc::kNotFound,
+						 rowName(request.resultsFile, i, row) + ": obj_id " +
+							 std::to_string(row.objId) + " has no entry in " +
+							 infoFile.string());
+			objectIds.insert(row.objId);
+		}
+	}
+	for (int id : objectIds) {
+		const double d = info.at(id).diameter;
+		if (!(d > 0) || !std::isfinite(d))
+			return makeError(Errc::kParse,
+					 infoFile.string() + ": \"" + std::to_string(id) +
+						 "\".diameter must be a positive number");
+	}
+
+	std::set<Triple> targeted;
+	if (request.targets) {
+		for (const Detection &det : *request.targets)
+			targeted.insert({det.sceneId, det.imageId, det.categoryId});
+	}
+
+	// Ground truth of the split; also the set of its images.
+	std::vector<EvalGt> gts;
+	std::set<std::pair<int, int>> images;
+	for (int sceneId : dataset.sceneIds()) {
+		Expected<BopScene> scene = dataset.loadScene(sceneId);
+		if (!scene)
+			return scene.error();
+		for (const auto &[imId, cam] : scene->cameras)
+			images.insert({sceneId, imId});
+		for (const auto &[imId, instances] : scene->gt) {
+			images.insert({sceneId, imId});
+			for (const GtInstance &inst : instances) {
+				if (!objectIds.count(inst.objId))
+					continue;
+				if (request.targets && !targeted.count({sceneId, imId, inst.objId}))
+					continue;
+				gts.push_back({sceneId, imId, inst.objId, inst.pose});
+			}
+		}
+	}
+
+	if (request.targets) {
+		for (size_t i = 0; i < request.targets->size(); ++i) {
+			const Detection &det = (*request.targets)[i];
+			if (!images.count({det.sceneId, det.imageId}))
+				return makeError(Errc::kNotFound,
+						 request.targetsFile.string() + ": entry " + std::to_string(i) +
+							 " (scene_id " + std::to_string(det.sceneId) +
+							 ", image_id " + std::to_string(det.imageId) +
+							 "): image not in split \"" + dataset.split() + "\" of " +
+							 dataset.root().string());
+		}
+	}
+
+	// The rows to score.
+	std::vector<ResultRow> estimates;
+	size_t ignored = 0;
+	for (size_t i = 0; i < results.size(); ++i) {
+		const ResultRow &row = results[i];
+		if (!objectIds.count(row.objId))
+			continue;
+		if (!images.count({row.sceneId, row.imId}))
+			return makeError(Errc::kNotFound,
+					 rowName(request.resultsFile, i, row) + ": image not in split \"" +
+						 dataset.split() + "\" of " + dataset.root().string());
+		if (!std::isfinite(row.score))
+			return makeError(Errc::kParse,
+					 rowName(request.resultsFile, i, row) + ": score is not a finite number");
+		if (!row.pose.R.allFinite() || !row.pose.t.allFinite())
+			return makeError(Errc::kParse,
+					 rowName(request.resultsFile, i, row) + ": R or t is not finite");
+		if (request.targets && !targeted.count({row.sceneId, row.imId, row.objId})) {
+			++ignored;
+			continue;
+		}
+		estimates.push_back(row);
+	}
+
+	// Models: every vertex, metric by symmetry.
+	std::map<int, std::unique_ptr<ObjectPoseError>> errors;
+	std::map<int, EvalObject> objects;
+	for (int id : objectIds) {
+		Expected<Mesh> mesh = dataset.loadModel(id);
+		if (!mesh)
+			return mesh.error();
+		if (mesh->vertices.empty())
+			return makeError(Errc::kCorrupt,
+					 dataset.modelPath(id).string() + ": model has no vertices");
+		const PoseMetric metric = info.at(id).symmetric() ? PoseMetric::kAdi : PoseMetric::kAdd;
+		auto error = std::make_unique<ObjectPoseError>(std::move(mesh->vertices), metric);
+		objects[id] = {info.at(id).diameter, error.get()};
+		errors[id] = std::move(error);
+	}
+
+	EvalReport report = evaluatePoses(objects, gts, estimates, request.zValues);
+	report.numIgnored = ignored;
+	return report;
+}
+
+} // namespace ihf

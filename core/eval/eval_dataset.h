@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// `ihf eval` on a BOP dataset: gathers the ground truth of one split, the
+// models and their info, checks the results rows, and scores them with
+// evaluatePoses() (see evaluation.h for the semantics).
+//
+// - Evaluated objects: `objects` if not empty, else every object id in the
+//   results. Each needs a models_info.json entry with a positive diameter and
+//   a model with vertices.
+// - Ground truths: every scene_gt.json instance of an evaluated object in
+//   every image of the split; with `targets`, only those of the
+//   (scene, image, object) triples that have a box.
+// - Estimates: the results rows of evaluated objects; with `targets`, rows
+//   of other triples are ignored (counted in numIgnored), as BOP does.
+//   A row naming an image that is not in the split is an error.
+
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "core/common/expected.h"
+#include "core/dataset/bop_dataset.h"
+#include "core/eval/evaluation.h"
+
+namespace ihf {
+
+struct EvalRequest {
+	std::vector<int> objects; // empty: every object in the results
+	std::optional<std::vector<Detection>> targets;
+	std::filesystem::path resultsFile;  // named in messages
+	std::filesystem::path targetsFile;  // named in messages
+	std::vector<double> zValues = defaultZValues();
+};
+
+Expected<EvalReport> evaluateOnDataset(const BopDataset &dataset,
+				       const std::vector<ResultRow> &results,
+				       const EvalRequest &request);
+
+} // namespace ihf

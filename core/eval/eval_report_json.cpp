@@ -1,0 +1,109 @@
+// SPDX-License-Identifier: MIT
+#include "core/eval/eval_report_json.h"
+
+#include <cmath>
+#include <fstream>
+#include <system_error>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+namespace ihf {
+
+namespace {
+
+using nlohmann::json;
+
+json timeJson(double seconds)
+{
+	return seconds < 0 ? json(nullptr) : json(seconds);
+}
+
+json curveJson(const std::vector<PrPoint> &curve)
+{
+	json points = json::array();
+	for (const PrPoint &p : curve)
+		points.push_back({{"threshold", p.threshold},
+				  {"precision", p.precision},
+				  {"recall", p.recall},
+				  {"f1", p.f1}});
+	return points;
+}
+
+} // namespace
+
+int curveZIndex(const EvalReport &report, double z)
+{
+	for (size_t i = 0; i < report.zValues.size(); ++i)
+		if (std::abs(report.zValues[i] - z) < 1e-9)
+			return static_cast<int>(i);
+	return -1;
+}
+
+std::string evalReportJson(const EvalReport &report)
+{
+	const int zi = curveZIndex(report);
+
+	json objects = json::array();
+	for (const ObjectEvalResult &r : report.objects) {
+		json o = {
+			{"obj_id", r.objId},
+			{"metric", poseMetricName(r.metric)},
+			{"diameter", r.diameter},
+			{"num_gt", r.numGt},
+			{"num_estimates", r.numEstimates},
+			{"num_matched", r.numMatched},
+			{"f1", r.f1},
+			{"mean_f1", r.meanF1},
+			{"recall_0.1d", r.recall},
+			{"median_time", timeJson(r.medianTime)},
+		};
+		if (zi >= 0)
+			o["pr_curve_z0.10"] = curveJson(r.curves[static_cast<size_t>(zi)]);
+		objects.push_back(std::move(o));
+	}
+
+	json doc = {
+		{"z_values", report.zValues},
+		{"recall_z", kRecallZ},
+		{"objects", std::move(objects)},
+		{"mean",
+		 {
+			 {"f1", report.meanF1PerZ},
+			 {"mean_f1", report.meanF1},
+			 {"recall_0.1d", report.meanRecall},
+			 {"median_time", timeJson(report.medianTime)},
+			 {"num_gt", report.numGt},
+			 {"num_estimates", report.numEstimates},
+			 {"num_ignored", report.numIgnored},
+		 }},
+	};
+	return doc.dump(2) + "\n";
+}
+
+Status writeEvalReportJson(const std::filesystem::path &file, const EvalReport &report)
+{
+	const std::string text = evalReportJson(report);
+	std::filesystem::path tmp = file;
+	tmp += ".tmp" + std::to_string(::getpid());
+	{
+		std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+		out << text;
+		out.flush();
+		if (!out) {
+			std::error_code ec;
+			std::filesystem::remove(tmp, ec);
+			return makeError(Errc::kIo, file.string() + ": cannot write");
+		}
+	}
+	std::error_code ec;
+	std::filesystem::rename(tmp, file, ec);
+	if (ec) {
+		std::filesystem::remove(tmp, ec);
+		return makeError(Errc::kIo, file.string() + ": cannot rename into place");
+	}
+	return {};
+}
+
+} // namespace ihf

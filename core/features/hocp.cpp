@@ -1,0 +1,158 @@
+// SPDX-License-Identifier: MIT
+
+#include "core/features/hocp.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace ihf {
+
+namespace {
+
+constexpr float kTinyRadius = 1e-12f;
+
+int clampBin(float t, int n)
+{
+	const int b = static_cast<int>(std::floor(t));
+	return std::clamp(b, 0, n - 1);
+}
+
+int angularBin(const Eigen::Vector3f &rel, float r, const HocpConfig &cfg)
+{
+	const float cosTheta = r > kTinyRadius ? rel.z() / r : 1.0f;
+	const int it = clampBin(0.5f * (cosTheta + 1.0f) * static_cast<float>(cfg.nTheta), cfg.nTheta);
+	const float phi = std::atan2(rel.y(), rel.x());
+	const int ip = clampBin((phi + std::numbers::pi_v<float>) * (0.5f / std::numbers::pi_v<float>) *
+					static_cast<float>(cfg.nPhi),
+				cfg.nPhi);
+	return it * cfg.nPhi + ip;
+}
+
+float binValue(float weight, HocpWeighting w)
+{
+	return w == HocpWeighting::kAbsWeight ? std::abs(weight) : 1.0f;
+}
+
+void normalise(std::span<float> out)
+{
+	double s = 0.0;
+	for (float v : out)
+		s += static_cast<double>(v) * v;
+	if (s <= 0.0)
+		return;
+	const float inv = static_cast<float>(1.0 / std::sqrt(s));
+	for (float &v : out)
+		v *= inv;
+}
+
+// Shared body: keep(i) decides which points count.
+template<typename Keep>
+int histogram(std::span<const PartCp> cps, const HocpConfig &cfg, std::span<float> out, Keep keep)
+{
+	const int dim = hocpDimension(cfg);
+	const int nAng = cfg.nTheta * cfg.nPhi;
+	assert(out.size() >= static_cast<size_t>(dim));
+	std::fill_n(out.begin(), dim, 0.0f);
+
+	float maxLogR = -std::numeric_limits<float>::infinity();
+	int kept = 0;
+	for (const PartCp &c : cps)
+		if (keep(c)) {
+			maxLogR = std::max(maxLogR, c.logR);
+			++kept;
+		}
+	if (kept == 0)
+		return 0;
+
+	// t_r = nR (log r - log r_min) / (log r_max - log r_min), r_min = f r_max.
+	const float logFrac = std::log(cfg.rMinFraction);
+	const float logRMin = maxLogR + logFrac;
+	const float rScale = static_cast<float>(cfg.nR) / -logFrac;
+	const bool split = cfg.weighting == HocpWeighting::kSignSplit;
+	const int d = cfg.nR * nAng;
+	for (const PartCp &c : cps) {
+		if (!keep(c))
+			continue;
+		const int ir = clampBin((c.logR - logRMin) * rScale, cfg.nR);
+		int bin = ir * nAng + c.angBin;
+		if (split && c.weight < 0.0f)
+			bin += d;
+		out[bin] += binValue(c.weight, cfg.weighting);
+	}
+	normalise(out.first(dim));
+	return kept;
+}
+
+} // namespace
+
+int hocpDimension(const HocpConfig &cfg)
+{
+	const int d = cfg.nR * cfg.nTheta * cfg.nPhi;
+	return cfg.weighting == HocpWeighting::kSignSplit ? 2 * d : d;
+}
+
+void setHocpKeys(std::span<PartCp> cps, const HocpConfig &cfg)
+{
+	for (PartCp &c : cps) {
+		const float r = c.rel.norm();
+		c.logR = std::log(std::max(r, kTinyRadius));
+		c.angBin = static_cast<uint16_t>(angularBin(c.rel, r, cfg));
+	}
+}
+
+int computeHocp(std::span<const PartCp> cps, const HocpConfig &cfg, std::span<float> out)
+{
+	return histogram(cps, cfg, out, [](const PartCp &) { return true; });
+}
+
+int computeHocpDepthChecked(std::span<const PartCp> cps, float zMin, float zMax, float margin,
+			    const HocpConfig &cfg, std::span<float> out)
+{
+	const float lo = zMin - margin, hi = zMax + margin;
+	return histogram(cps, cfg, out, [lo, hi](const PartCp &c) {
+		return c.rel.z() >= lo && c.rel.z() <= hi;
+	});
+}
+
+int computeHocpReference(std::span<const PartCp> cps, const HocpConfig &cfg, std::span<float> out)
+{
+	const int dim = hocpDimension(cfg);
+	assert(out.size() >= static_cast<size_t>(dim));
+	std::fill_n(out.begin(), dim, 0.0f);
+	if (cps.empty())
+		return 0;
+	float rMax = 0.0f;
+	for (const PartCp &c : cps)
+		rMax = std::max(rMax, c.rel.norm());
+	const float rMin = cfg.rMinFraction * rMax;
+	const int nAng = cfg.nTheta * cfg.nPhi;
+	const int d = cfg.nR * nAng;
+	for (const PartCp &c : cps) {
+		const float r = c.rel.norm();
+		const float tr = r > kTinyRadius && rMin > 0.0f
+					 ? static_cast<float>(cfg.nR) * std::log(r / rMin) / std::log(rMax / rMin)
+					 : 0.0f;
+		int bin = clampBin(tr, cfg.nR) * nAng + angularBin(c.rel, r, cfg);
+		if (cfg.weighting == HocpWeighting::kSignSplit && c.weight < 0.0f)
+			bin += d;
+		out[bin] += binValue(c.weight, cfg.weighting);
+	}
+	normalise(out.first(dim));
+	return static_cast<int>(cps.size());
+}
+
+float hocpDistanceSquared(std::span<const float> a, std::span<const float> b)
+{
+	float s = 0.0f;
+	const size_t n = std::min(a.size(), b.size());
+	for (size_t i = 0; i < n; ++i) {
+		const float d = a[i] - b[i];
+		s += d * d;
+	}
+	return s;
+}
+
+} // namespace ihf

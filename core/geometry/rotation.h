@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// Rotation helpers shared by training (view sampling) and inference (vote
+// modes, virtual on-axis camera).
+
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace ihf {
+
+// Quaternions q and -q are the same rotation: similarity is |<q1, q2>|.
+inline float quatSimilarity(const Eigen::Quaternionf &a, const Eigen::Quaternionf &b)
+{
+	return std::abs(a.coeffs().dot(b.coeffs()));
+}
+
+// Geodesic angle (radians) between two rotations given as unit quaternions.
+inline float quatAngle(const Eigen::Quaternionf &a, const Eigen::Quaternionf &b)
+{
+	float c = quatSimilarity(a, b);
+	return 2.0f * std::acos(c > 1.0f ? 1.0f : c);
+}
+
+// Rotation taking the optical axis (0,0,1) onto the unit ray `dir`, with no
+// twist about the axis (the minimal rotation). Used to turn a crop into a
+// virtual camera looking straight at it.
+inline Eigen::Matrix3d rayAlignment(const Eigen::Vector3d &dir)
+{
+	return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), dir.normalized())
+		.toRotationMatrix();
+}
+
+// Camera-from-model rotation for a camera on the unit sphere direction
+// `viewDir` (from the object towards the camera) looking at the object's
+// origin, rotated in-plane by `inplane` radians about the optical axis.
+Eigen::Matrix3d lookAtRotation(const Eigen::Vector3d &viewDir, double inplane);
+
+// Quasi-uniform directions on the sphere (Fibonacci lattice).
+std::vector<Eigen::Vector3d> fibonacciSphere(int count);
+
+} // namespace ihf

@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// Fits an implicit B-spline f (Eq. 3-6) to a point cloud in the unit cube with
+// the 3L scheme: f = 0 at each data point p, f = +c at p + eps n and -c at
+// p - eps n (n the normal oriented to the camera, so f > 0 in front of the
+// surface). Only the active control points, those whose support holds a
+// constraint, are unknowns.
+//
+// Memory is fixed at reserve(): a dense node -> active-slot map of maxN^3
+// int32 (4 MB at N = 100; only the entries a fit touched are reset, so it is
+// never cleared whole), per-constraint tables for 3 * maxPoints equations and
+// per-active arrays for maxActive nodes. fit() allocates nothing.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/common/expected.h"
+#include "core/ibs/bspline_basis.h"
+#include "core/ibs/control_point.h"
+#include "core/ibs/ibs_config.h"
+
+namespace ihf {
+
+class IbsFitter
+{
+public:
+	IbsFitter() = default;
+	explicit IbsFitter(const IbsLimits &limits) { reserve(limits); }
+
+	// Sizes all scratch for the limits (allocates); not per frame.
+	void reserve(const IbsLimits &limits);
+	const IbsLimits &limits() const { return limits_; }
+	size_t reservedBytes() const;
+
+	// Fits points (unit cube) with normals (unit length, or zero when
+	// unknown: such points only give f = 0). Writes the active control points
+	// sorted by index into out and returns the statistics; kCapacity if out,
+	// the reserved points or active set are too small, kInvalidArgument on
+	// bad sizes. previous (sorted by index, same lattice) seeds CG when
+	// cfg.warmStart is kPrevious.
+	Expected<IbsFitStats> fit(std::span<const Eigen::Vector3f> points,
+				  std::span<const Eigen::Vector3f> normals,
+				  const IbsConfig &cfg, std::span<ControlPoint> out,
+				  std::span<const ControlPoint> previous = {});
+
+	// f and its gradient (unit-cube units) of the last fit; inactive nodes
+	// count as zero.
+	float evaluate(const Eigen::Vector3f &x) const;
+	float evaluate(const Eigen::Vector3f &x, Eigen::Vector3f &gradient) const;
+
+	const Lattice &lattice() const { return lattice_; }
+	int activeCount() const { return activeCount_; }
+
+private:
+	// One 3L equation: the value wanted at a position, its blending values
+	// and, for each of the 4 x 4 node columns (i + l, j + m), the active slot
+	// of node k; nodes k .. k + 3 of a column are consecutive slots because
+	// the active set is sorted by index.
+	struct Constraint {
+		int32_t column[16];
+		float bx[4], by[4], bz[4];
+		Eigen::Vector3f pos;
+		float value;
+	};
+
+	void resetMap();
+	void addConstraint(const Eigen::Vector3f &pos, float value);
+	Status buildConstraints(std::span<const Eigen::Vector3f> points,
+				std::span<const Eigen::Vector3f> normals,
+				const IbsConfig &cfg, IbsFitStats &stats);
+	Status buildActiveSet();
+	float constraintValue(const Constraint &c, const float *x) const;
+	void scatter(const Constraint &c, float s, float *y) const;
+
+	// Solvers (ibs_cg.cpp, ibs_mba.cpp); both write x_.
+	void solveCg(const IbsConfig &cfg, bool warm, IbsFitStats &stats);
+	void solveMba(const IbsConfig &cfg);
+	void buildNeighbours();
+	void applyNormal(const float *p, float *out, float lambdaSmooth, float lambdaRidge) const;
+
+	IbsLimits limits_;
+	Lattice lattice_;
+
+	std::vector<int32_t> map_;     // node index -> active slot, -1 if inactive
+	std::vector<Constraint> constraints_;
+	std::vector<float> residual_;  // per constraint, multilevel BA
+	int constraintCount_ = 0;
+	bool fitValid_ = false;
+
+	// Per active slot.
+	std::vector<int32_t> active_;  // node index, sorted
+	std::vector<int32_t> neighbours_; // 6 per slot: -x +x -y +y -z +z, -1 if none
+	std::vector<float> x_, r_, z_, p_, q_, diag_;
+	int activeCount_ = 0;
+
+	// Dense coarse lattices of the multilevel BA (levels below the finest).
+	std::vector<float> coarseNum_, coarseDen_;
+};
+
+} // namespace ihf

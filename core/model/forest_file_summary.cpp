@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: MIT
+// formatForestFileSummary(): the text `ihf forest info` prints.
+
+#include <algorithm>
+#include <cstdarg>
+#include <cstdio>
+#include <string>
+
+#include "core/model/forest_file.h"
+
+namespace ihf {
+
+namespace {
+
+void appendf(std::string &out, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+void appendf(std::string &out, const char *fmt, ...)
+{
+	char buf[512];
+	va_list ap;
+	va_start(ap, fmt);
+	int n = std::vsnprintf(buf, sizeof(buf), fmt, ap);
+	va_end(ap);
+	if (n > 0)
+		out.append(buf, std::min<size_t>(static_cast<size_t>(n), sizeof(buf) - 1));
+}
+
+const char *encodingName(TemplateEncoding e)
+{
+	return e == TemplateEncoding::kFloat32 ? "float32" : "uint8";
+}
+
+} // namespace
+
+std::string formatForestFileSummary(const ForestFileSummary &s)
+{
+	std::string out;
+	appendf(out, "file: %s\n", s.path.c_str());
+	appendf(out, "format version %u, %llu bytes, header CRC32 0x%08x, table CRC32 0x%08x\n",
+		s.version, static_cast<unsigned long long>(s.fileSize), s.headerCrc, s.tableCrc);
+
+	appendf(out, "sections: %zu\n", s.sections.size());
+	appendf(out, "  %-14s %4s %10s %12s %8s %10s %10s\n", "type", "tree", "offset", "bytes",
+		"element", "count", "crc32");
+	for (const ForestFileSection &sec : s.sections) {
+		const bool perTree = sec.type == SectionType::kNodes ||
+				     sec.type == SectionType::kTemplates ||
+				     sec.type == SectionType::kVotes;
+		appendf(out, "  %-14s %4s %10llu %12llu %8u %10u 0x%08x\n", sectionTypeName(sec.type),
+			perTree ? std::to_string(sec.tree).c_str() : "-",
+			static_cast<unsigned long long>(sec.offset),
+			static_cast<unsigned long long>(sec.size), sec.elementSize, sec.elementCount,
+			sec.crc);
+	}
+
+	appendf(out, "forest: %zu trees, dims %d, templates %s\n", s.trees.size(), s.dims,
+		encodingName(s.encoding));
+	appendf(out, "  %4s %10s %10s %10s %10s %6s\n", "tree", "nodes", "leaves", "templates",
+		"votes", "depth");
+	unsigned long long nodes = 0, leaves = 0, templates = 0, votes = 0;
+	int depth = 0;
+	for (size_t t = 0; t < s.trees.size(); ++t) {
+		const ForestTreeStats &ts = s.trees[t];
+		appendf(out, "  %4zu %10u %10u %10u %10u %6d\n", t, ts.nodes, ts.leaves, ts.templates,
+			ts.votes, ts.depth);
+		nodes += ts.nodes;
+		leaves += ts.leaves;
+		templates += ts.templates;
+		votes += ts.votes;
+		depth = std::max(depth, ts.depth);
+	}
+	appendf(out, "  %4s %10llu %10llu %10llu %10llu %6d\n", "all", nodes, leaves, templates,
+		votes, depth);
+
+	appendf(out, "mesh: %zu vertices, %zu faces, %s\n", s.vertices, s.faces,
+		s.normals ? "with normals" : "no normals");
+	out += "params:\n";
+	out += s.paramsJson;
+	if (!s.paramsJson.empty() && s.paramsJson.back() != '\n')
+		out += '\n';
+	return out;
+}
+
+} // namespace ihf

@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// A trained object: its parameters, the mesh inference renders hypotheses
+// with, and the forest. Either built in memory by training or loaded from a
+// forest file (see forest_file.h), in which case the forest view points
+// into the mapped file.
+
+#include <memory>
+
+#include "core/forest/forest_view.h"
+#include "core/geometry/mesh.h"
+#include "core/model/model_params.h"
+
+namespace ihf {
+
+class ObjectModel
+{
+public:
+	virtual ~ObjectModel() = default;
+	virtual const ModelParams &params() const = 0;
+	virtual const Mesh &mesh() const = 0;
+	virtual const ForestView &forest() const = 0;
+};
+
+// An in-memory model holding its own packed forest.
+class OwnedObjectModel : public ObjectModel
+{
+public:
+	OwnedObjectModel(ModelParams params, Mesh mesh, ForestStorage storage)
+		: params_(std::move(params)), mesh_(std::move(mesh)), storage_(std::move(storage)) {}
+
+	const ModelParams &params() const override { return params_; }
+	const Mesh &mesh() const override { return mesh_; }
+	const ForestView &forest() const override { return storage_.view(); }
+	const ForestStorage &storage() const { return storage_; }
+
+private:
+	ModelParams params_;
+	Mesh mesh_;
+	ForestStorage storage_;
+};
+
+} // namespace ihf

@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// Mode finding over Hough votes (paper Eq. 8 and 13: the argmax of the vote
+// density). Translation first: mean-shift with a Gaussian kernel from a set
+// of seeds, modes merged and ranked by density. Then, for each translation
+// mode, the rotation mode among the votes near it: mean-shift on unit
+// quaternions with a geodesic Gaussian kernel, and a weighted quaternion
+// average (Markley) of the converged cluster. Caller-provided buffers only.
+
+#include <cstddef>
+#include <span>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace ihf {
+
+struct CastVote {
+	Eigen::Vector3f centre; // voted object origin, camera frame, mm
+	Eigen::Quaternionf rotation;
+	float weight = 1.0f;
+};
+
+struct VoteModeConfig {
+	float translationBandwidth = 12.0f; // mm, Gaussian sigma
+	float rotationBandwidth = 0.26f; // radians, geodesic Gaussian sigma (~15 deg)
+	float supportRadius = 2.5f; // in bandwidths: votes nearer a mode support it
+	int maxSeeds = 64;
+	int maxIterations = 20;
+	float mergeDistance = 0.5f; // in translation bandwidths
+};
+
+struct PoseMode {
+	Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+	Eigen::Quaternionf rotation = Eigen::Quaternionf::Identity();
+	float translationDensity = 0; // kernel-weighted vote mass at the centre
+	float rotationDensity = 0; // of the supporting votes, at the rotation
+	float supportWeight = 0; // total weight of votes within the support
+};
+
+// Scratch for findPoseModes: sized once for the maximum vote count.
+struct VoteModeWorkspace {
+	std::span<float> scratch; // >= votes
+	std::span<Eigen::Vector3f> seeds; // >= maxSeeds
+};
+
+// Writes up to modes.size() modes ranked by translation density; returns
+// how many. Votes with weight <= 0 are ignored.
+size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &config,
+		     VoteModeWorkspace workspace, std::span<PoseMode> modes);
+
+// Weighted average of quaternions (Markley et al. 2007): the eigenvector of
+// the largest eigenvalue of sum w q q^T. Sign-invariant.
+Eigen::Quaternionf averageQuaternion(std::span<const Eigen::Quaternionf> qs,
+				    std::span<const float> weights);
+
+} // namespace ihf

@@ -1,0 +1,331 @@
+// SPDX-License-Identifier: MIT
+#include "core/synth/scene_layout.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
+
+#include "core/synth/primitive_mesh.h"
+
+namespace ihf {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+double deg(double d) { return d * kPi / 180.0; }
+
+double logUniform(SynthRandom &rng, double lo, double hi)
+{
+	return std::exp(rng.uniform(std::log(lo), std::log(hi)));
+}
+
+Eigen::Matrix3d yawMatrix(double yaw)
+{
+	return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+}
+
+} // namespace
+
+SceneObject placeOnTable(const PlaceableModel &model, int restIndex, double yaw,
+			 const Eigen::Vector2d &xy, SceneRole role)
+{
+	const RestingPose &rest = model.restingPoses[restIndex];
+	const Eigen::Matrix3d Rz = yawMatrix(yaw);
+	// Footprint centre and lowest point of the rested model.
+	const Eigen::Vector3d base(0.5 * (rest.min.x() + rest.max.x()),
+				   0.5 * (rest.min.y() + rest.max.y()), rest.min.z());
+	SceneObject obj;
+	obj.mesh = model.mesh;
+	obj.role = role;
+	obj.objId = model.objId;
+	obj.modelToWorld.R = Rz * rest.R;
+	obj.modelToWorld.t = Eigen::Vector3d(xy.x(), xy.y(), 0.0) - Rz * base;
+	obj.footprint.centre = xy;
+	obj.footprint.halfSize = 0.5 * (rest.max - rest.min).head<2>();
+	obj.footprint.yaw = yaw;
+	obj.height = rest.max.z() - rest.min.z();
+	return obj;
+}
+
+void moveOnTable(SceneObject &obj, const Eigen::Vector2d &xy)
+{
+	const Eigen::Vector2d delta = xy - obj.footprint.centre;
+	obj.modelToWorld.t.head<2>() += delta;
+	obj.footprint.centre = xy;
+}
+
+SynthView lookAtTarget(const Eigen::Vector3d &target, double distance, double elevation,
+		       double azimuth, double roll, const Eigen::Vector2d &aim,
+		       const CameraIntrinsics &K)
+{
+	SynthView v;
+	v.distance = distance;
+	v.elevation = elevation;
+	v.azimuth = azimuth;
+	v.roll = roll;
+	v.aim = aim;
+	v.centre = target + distance * Eigen::Vector3d(std::cos(elevation) * std::cos(azimuth),
+						       std::cos(elevation) * std::sin(azimuth),
+						       std::sin(elevation));
+	// Look-at frame: z forward, x right (horizontal), y down the image.
+	const Eigen::Vector3d z = (target - v.centre).normalized();
+	const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
+	const Eigen::Vector3d y = z.cross(x);
+	Eigen::Matrix3d R;
+	R.row(0) = x.transpose();
+	R.row(1) = y.transpose();
+	R.row(2) = z.transpose();
+	// Roll about the optical axis keeps the target on the axis; the aim turn
+	// then moves it to the chosen pixel.
+	R = Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix() * R;
+	const Eigen::Vector3d ray =
+		Eigen::Vector3d((aim.x() - K.cx) / K.fx, (aim.y() - K.cy) / K.fy, 1.0).normalized();
+	R = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), ray).toRotationMatrix() * R;
+	v.worldToCamera.R = R;
+	v.worldToCamera.t = -R * v.centre;
+	return v;
+}
+
+PlaceableModel randomPrimitive(SynthRandom &rng, double scale)
+{
+	const double u = rng.uniform01();
+	const double s = scale;
+	if (u < 0.4)
+		return primitiveModel(makeBox(logUniform(rng, 30 * s, 220 * s),
+					      logUniform(rng, 30 * s, 220 * s),
+					      logUniform(rng, 20 * s, 260 * s)));
+	if (u < 0.7)
+		return primitiveModel(makeCylinder(logUniform(rng, 15 * s, 70 * s),
+						   logUniform(rng, 30 * s, 250 * s)));
+	if (u < 0.85)
+		return primitiveModel(makeLyingCylinder(logUniform(rng, 15 * s, 50 * s),
+							logUniform(rng, 60 * s, 250 * s)));
+	return primitiveModel(makeSphere(logUniform(rng, 15 * s, 70 * s)));
+}
+
+SceneLayout LayoutSampler::sampleBase(int targetId, SynthRandom &rng) const
+{
+	const PlaceableModel &model = library_.model(targetId);
+	SceneLayout layout;
+	const int rest = sampleRestingPose(model, rng);
+	const double yaw = rng.uniform(0, 2 * kPi);
+	layout.objects.push_back(placeOnTable(model, rest, yaw, {0, 0}, SceneRole::kTarget));
+
+	const double distance = rng.uniform(params_.distanceMin, params_.distanceMax);
+	const double elevation = deg(rng.uniform(params_.elevationMinDeg, params_.elevationMaxDeg));
+	const double azimuth = rng.uniform(0, 2 * kPi);
+	const double roll = deg(std::clamp(rng.normal() * params_.rollSigmaDeg,
+					   -params_.rollMaxDeg, params_.rollMaxDeg));
+	// Anywhere in the image where the object fits whole (the occlusion
+	// control may push it over the border on purpose).
+	const double r = 0.5 * model.diameter * K_.fx / distance;
+	const double hw = std::max(0.0, 0.5 * K_.width - 0.8 * r - 10);
+	const double hh = std::max(0.0, 0.5 * K_.height - 0.8 * r - 10);
+	const Eigen::Vector2d aim(0.5 * K_.width + rng.uniform(-hw, hw),
+				  0.5 * K_.height + rng.uniform(-hh, hh));
+	layout.view = lookAtTarget(layout.objects[0].modelToWorld.t, distance, elevation, azimuth,
+				   roll, aim, K_);
+	return layout;
+}
+
+void LayoutSampler::reaim(SceneLayout &layout, const Eigen::Vector2d &aim) const
+{
+	const SynthView &v = layout.view;
+	layout.view = lookAtTarget(layout.objects[0].modelToWorld.t, v.distance, v.elevation,
+				   v.azimuth, v.roll, aim, K_);
+}
+
+bool LayoutSampler::fits(const SceneLayout &layout, const SceneObject &obj, int skip) const
+{
+	for (size_t i = 0; i < layout.objects.size(); ++i) {
+		const SceneObject &o = layout.objects[i];
+		if (static_cast<int>(i) == skip || o.role == SceneRole::kRoom)
+			continue;
+		if (footprintsOverlap(obj.footprint, o.footprint, 0.5))
+			return false;
+	}
+	// Keep clear of the camera (the Kinect sees nothing nearer than ~0.5 m
+	// anyway, and a box in front of the lens is no test scene).
+	const Eigen::Vector3d c(obj.footprint.centre.x(), obj.footprint.centre.y(), 0.5 * obj.height);
+	const double radius = std::hypot(obj.footprint.radius(), 0.5 * obj.height);
+	return (c - layout.view.centre).norm() - radius >= params_.minCameraClearance;
+}
+
+double LayoutSampler::clearDistance(const SceneLayout &layout, SceneObject obj,
+				    const Eigen::Vector2d &dir, const Eigen::Vector2d &lateral,
+				    double gap) const
+{
+	const Footprint &target = layout.objects[0].footprint;
+	const double far = target.radius() + obj.footprint.radius() + gap + 1.0;
+	auto overlaps = [&](double d) {
+		moveOnTable(obj, target.centre + d * dir + lateral);
+		return footprintsOverlap(obj.footprint, target, gap);
+	};
+	// The overlapping distances form one interval (convex shapes along a
+	// line): step in from the far side to its upper end, then bisect.
+	double hi = far, lo = far;
+	const double step = 2.0;
+	while (lo > 0 && !overlaps(lo)) {
+		hi = lo;
+		lo -= step;
+	}
+	if (lo <= 0 && !overlaps(0.0))
+		return 0.0;
+	lo = std::max(lo, 0.0);
+	for (int i = 0; i < 20; ++i) {
+		const double mid = 0.5 * (lo + hi);
+		if (overlaps(mid))
+			lo = mid;
+		else
+			hi = mid;
+	}
+	return hi;
+}
+
+void LayoutSampler::addClutter(SceneLayout &layout, int targetId, SynthRandom &rng) const
+{
+	std::vector<int> others;
+	for (int id : library_.ids())
+		if (id != targetId)
+			others.push_back(id);
+
+	const int count = rng.uniformInt(params_.clutterMin, params_.clutterMax);
+	for (int k = 0; k < count; ++k) {
+		PlaceableModel model;
+		if (!others.empty() && rng.chance(params_.meshClutterShare))
+			model = library_.model(others[rng.below(others.size())]);
+		else
+			model = randomPrimitive(rng);
+		const int rest = sampleRestingPose(model, rng);
+		SceneObject obj = placeOnTable(model, rest, rng.uniform(0, 2 * kPi), {0, 0},
+					       SceneRole::kClutter);
+		obj.dropout = rng.chance(params_.darkProbability) ? rng.uniform(0.6, 1.0) : 0.0;
+		const bool touching = rng.chance(params_.touchProbability);
+		for (int attempt = 0; attempt < 15; ++attempt) {
+			const double a = rng.uniform(0, 2 * kPi);
+			const Eigen::Vector2d dir(std::cos(a), std::sin(a));
+			double d;
+			if (touching) {
+				d = clearDistance(layout, obj, dir, {0, 0}, rng.uniform(1.0, 4.0));
+			} else {
+				const double near = clearDistance(layout, obj, dir, {0, 0}, 5.0);
+				d = rng.uniform(near, std::max(near, params_.clutterRadius +
+									 obj.footprint.radius()));
+			}
+			moveOnTable(obj, layout.objects[0].footprint.centre + d * dir);
+			if (fits(layout, obj)) {
+				layout.objects.push_back(obj);
+				break;
+			}
+		}
+	}
+
+	// A few large items further away: shelves, boxes, a monitor's foot.
+	const int background = rng.uniformInt(params_.backgroundMin, params_.backgroundMax);
+	for (int k = 0; k < background; ++k) {
+		PlaceableModel model = primitiveModel(makeBox(logUniform(rng, 150, 500),
+							      logUniform(rng, 150, 500),
+							      logUniform(rng, 100, 500)));
+		SceneObject obj = placeOnTable(model, 0, rng.uniform(0, 2 * kPi), {0, 0},
+					       SceneRole::kBackground);
+		obj.dropout = rng.chance(params_.darkProbability) ? rng.uniform(0.6, 1.0) : 0.0;
+		for (int attempt = 0; attempt < 10; ++attempt) {
+			const double a = rng.uniform(0, 2 * kPi);
+			const double d = rng.uniform(layout.objects[0].footprint.radius() +
+							     obj.footprint.radius() + 100,
+						     layout.objects[0].footprint.radius() +
+							     obj.footprint.radius() + 700);
+			moveOnTable(obj, layout.objects[0].footprint.centre +
+						 d * Eigen::Vector2d(std::cos(a), std::sin(a)));
+			if (fits(layout, obj)) {
+				layout.objects.push_back(obj);
+				break;
+			}
+		}
+	}
+}
+
+void LayoutSampler::addRoom(SceneLayout &layout, SynthRandom &rng) const
+{
+	const Eigen::Vector2d targetXy = layout.objects[0].footprint.centre;
+	Footprint table;
+	table.yaw = rng.uniform(0, kPi);
+	table.halfSize = {0.5 * rng.uniform(700, 1600), 0.5 * rng.uniform(500, 1000)};
+	// Target somewhere on the table, at least 150 mm from its edges.
+	const Eigen::Vector2d offset(rng.uniform(-1, 1) * (table.halfSize.x() - 150),
+				     rng.uniform(-1, 1) * (table.halfSize.y() - 150));
+	table.centre = targetXy - offset.x() * table.axisX() - offset.y() * table.axisY();
+
+	// Grow the table so that everything placed stands on it.
+	Eigen::Vector2d lo = -table.halfSize, hi = table.halfSize;
+	for (const SceneObject &o : layout.objects) {
+		if (o.role == SceneRole::kRoom)
+			continue;
+		for (const auto &c : o.footprint.corners()) {
+			const Eigen::Vector2d d = c - table.centre;
+			const Eigen::Vector2d p(d.dot(table.axisX()), d.dot(table.axisY()));
+			lo = lo.cwiseMin(p - Eigen::Vector2d::Constant(40));
+			hi = hi.cwiseMax(p + Eigen::Vector2d::Constant(40));
+		}
+	}
+	const Eigen::Vector2d mid = 0.5 * (lo + hi);
+	table.centre += mid.x() * table.axisX() + mid.y() * table.axisY();
+	table.halfSize = 0.5 * (hi - lo);
+	layout.table = table;
+	layout.tableHeight = rng.uniform(700, 780);
+
+	// Slab: the top sits 0.5 mm under the objects' contact plane so the
+	// contact pixels never tie in the z-buffer.
+	const double thickness = rng.uniform(18, 40);
+	SceneObject slab;
+	slab.role = SceneRole::kRoom;
+	slab.mesh = std::make_shared<const Mesh>(
+		makeBox(2 * table.halfSize.x(), 2 * table.halfSize.y(), thickness));
+	slab.modelToWorld.R = yawMatrix(table.yaw);
+	slab.modelToWorld.t = {table.centre.x(), table.centre.y(), -0.5 - thickness};
+	layout.objects.push_back(slab);
+
+	SceneObject floor;
+	floor.role = SceneRole::kRoom;
+	floor.mesh = std::make_shared<const Mesh>(makeQuad(12000, 12000));
+	floor.modelToWorld.t = {targetXy.x(), targetXy.y(), -layout.tableHeight};
+	layout.objects.push_back(floor);
+
+	// A wall behind: at the table's far edge (a table against the wall) or,
+	// otherwise, the far wall of the room, often beyond the sensor's range.
+	Eigen::Vector2d view = (targetXy - layout.view.centre.head<2>());
+	view = view.norm() > 1e-9 ? view.normalized() : Eigen::Vector2d(1, 0);
+	layout.wall = rng.chance(params_.wallProbability);
+	Eigen::Vector2d n = table.axisX();
+	double reach = table.halfSize.x();
+	for (const auto &[axis, half] : {std::pair{table.axisX(), table.halfSize.x()},
+					 std::pair{Eigen::Vector2d(-table.axisX()), table.halfSize.x()},
+					 std::pair{table.axisY(), table.halfSize.y()},
+					 std::pair{Eigen::Vector2d(-table.axisY()), table.halfSize.y()}}) {
+		if (axis.dot(view) > n.dot(view)) {
+			n = axis;
+			reach = half;
+		}
+	}
+	Eigen::Vector2d wallPoint;
+	if (layout.wall) {
+		wallPoint = table.centre + (reach + rng.uniform(0, 150)) * n;
+	} else {
+		wallPoint = table.centre + (reach + rng.uniform(400, 3000)) * n;
+	}
+	const Eigen::Vector3d n3(n.x(), n.y(), 0);
+	const Eigen::Vector3d e = n3.cross(Eigen::Vector3d::UnitZ());
+	SceneObject wall;
+	wall.role = SceneRole::kRoom;
+	wall.mesh = std::make_shared<const Mesh>(makeQuad(8000, 3000));
+	wall.modelToWorld.R.col(0) = e;
+	wall.modelToWorld.R.col(1) = Eigen::Vector3d::UnitZ();
+	wall.modelToWorld.R.col(2) = -n3;
+	wall.modelToWorld.t = {wallPoint.x(), wallPoint.y(), -layout.tableHeight + 1500};
+	layout.objects.push_back(wall);
+}
+
+} // namespace ihf

@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// One synthetic test image of one target: lays out a tabletop scene, drives
+// the target's occlusion into the requested range, renders it from the
+// camera and the projector, passes it through the Kinect model and derives
+// the ground truth (pose, scene_gt_info entry, coarse detection box). Every
+// image draws from its own random stream, seeded from (seed, object, image,
+// attempt), so images do not depend on each other or on the object order.
+
+#include <vector>
+
+#include "core/common/expected.h"
+#include "core/common/image.h"
+#include "core/dataset/bop_types.h"
+#include "core/synth/detection_box.h"
+#include "core/synth/kinect_sensor.h"
+#include "core/synth/model_library.h"
+#include "core/synth/occlusion_control.h"
+#include "core/synth/scene_layout.h"
+#include "core/synth/scene_render.h"
+
+namespace ihf {
+
+struct SynthParams {
+	LayoutParams layout;
+	KinectParams sensor;
+	DetectionNoise detection;
+	bool idealSensor = false; // clean depth, only rounded to depthScale
+	double occlusionMin = 0.0, occlusionMax = 0.6;
+	double occlusionTolerance = 0.03;
+	double truncationProbability = 0.15;
+	double depthScale = 1.0; // raw * depthScale = mm
+	uint64_t seed = 0;
+	int maxAttempts = 16;
+	bool keepClean = false; // keep the clean render in SynthImage (tests)
+};
+
+struct SynthImage {
+	DepthImage16 depth;          // sensor depth, raw units of depthScale
+	GtInstance gt;
+	GtInfo info;
+	Detection detection;
+	double occlusionGoal = 0;
+	OcclusionOutcome outcome;
+	int attempts = 0;
+	int objects = 0;             // objects in the scene besides the target
+	// Only with keepClean: clean depth (mm) and labels (target = 1).
+	DepthImageMm cleanDepth;
+	Image<uint16_t> cleanLabel;
+	SceneLayout layout;
+};
+
+class SceneSynthesizer
+{
+public:
+	SceneSynthesizer(const ModelLibrary &library, const CameraIntrinsics &K, SynthParams params);
+
+	Expected<SynthImage> synthesize(int objId, int imageId);
+
+	const SynthParams &params() const { return params_; }
+
+private:
+	Expected<SynthImage> attempt(int objId, int imageId, SynthRandom &rng);
+
+	const ModelLibrary &library_;
+	CameraIntrinsics K_;
+	SynthParams params_;
+	SceneRenderer renderer_;
+	LayoutSampler sampler_;
+	int projectorPad_ = 0;
+	DepthImageMm depth_;
+	Image<uint16_t> label_;
+	DepthImageMm projector_;
+};
+
+} // namespace ihf

@@ -1,0 +1,152 @@
+// SPDX-License-Identifier: MIT
+// `ihf train`: renders training views of a mesh, builds the annotated parts
+// and grows the Hough forest; writes a forest file.
+
+#include <chrono>
+#include <cstdio>
+#include <regex>
+
+#include "core/dataset/bop_io.h"
+#include "core/forest/forest_trainer.h"
+#include "core/geometry/ply_loader.h"
+#include "core/model/forest_file.h"
+#include "core/training/hocp_split_metric.h"
+#include "core/training/training_set.h"
+#include "firmware_app/command.h"
+#include "firmware_app/pipeline_config.h"
+#include "firmware_app/progress_bar.h"
+
+namespace ihf::app {
+
+namespace {
+
+struct TrainOptions {
+	std::string model;
+	std::string out;
+	std::string config;
+	std::string camera;
+	std::string modelsInfo;
+	int objId = -1;
+	int threads = 0;
+	int64_t seed = -1;
+};
+
+// The default camera: Kinect v1 as in the LM-O data (BOP camera.json).
+CameraIntrinsics defaultCamera()
+{
+	return CameraIntrinsics{572.4114, 573.57043, 325.2611, 242.04899, 640, 480};
+}
+
+int runTrain(const TrainOptions &o)
+{
+	auto settings = loadTrainConfig(o.config);
+	if (!settings) {
+		std::fprintf(stderr, "ihf train: %s\n", settings.error().message.c_str());
+		return kExitFailure;
+	}
+	TrainSettings &s = *settings;
+	if (o.threads > 0)
+		s.set.threads = s.forest.threads = o.threads;
+	if (o.seed >= 0)
+		s.set.seed = s.set.views.seed = s.forest.seed = s.params.seed = static_cast<uint64_t>(o.seed);
+
+	auto mesh = loadPly(o.model);
+	if (!mesh) {
+		std::fprintf(stderr, "ihf train: %s\n", mesh.error().message.c_str());
+		return kExitFailure;
+	}
+	size_t degenerate = countDegenerateFaces(*mesh);
+	if (degenerate > 0)
+		std::fprintf(stderr, "ihf train: %s: %zu degenerate faces ignored\n", o.model.c_str(), degenerate);
+
+	CameraIntrinsics K = defaultCamera();
+	if (!o.camera.empty()) {
+		auto cam = readBopCamera(o.camera);
+		if (!cam) {
+			std::fprintf(stderr, "ihf train: %s\n", cam.error().message.c_str());
+			return kExitFailure;
+		}
+		K = cam->intrinsics;
+	}
+
+	int objId = o.objId;
+	std::smatch m;
+	std::string stem = std::filesystem::path(o.model).stem().string();
+	if (objId < 0 && std::regex_match(stem, m, std::regex("obj_0*([0-9]+)")))
+		objId = std::stoi(m[1]);
+	if (objId < 0) {
+		std::fprintf(stderr, "ihf train: cannot tell the object id from %s; pass --obj-id\n",
+			     o.model.c_str());
+		return kExitUsage;
+	}
+	s.params.objId = objId;
+	s.params.diameter = meshDiameter(*mesh);
+	s.params.meshName = std::filesystem::path(o.model).filename().string();
+	std::filesystem::path infoPath = o.modelsInfo.empty()
+		? std::filesystem::path(o.model).parent_path() / "models_info.json"
+		: std::filesystem::path(o.modelsInfo);
+	if (std::filesystem::exists(infoPath)) {
+		auto info = readModelsInfo(infoPath);
+		if (!info) {
+			std::fprintf(stderr, "ihf train: %s\n", info.error().message.c_str());
+			return kExitFailure;
+		}
+		if (auto it = info->find(objId); it != info->end())
+			s.params.symmetric = it->second.symmetric();
+	}
+	s.params.trainScales = s.set.scales;
+
+	const auto t0 = std::chrono::steady_clock::now();
+	ProgressBar viewsBar("views ");
+	auto set = buildTrainingSet(*mesh, K, s.params, s.set,
+				    [&](int d, int t) { viewsBar.update(d, t); });
+	if (!set) {
+		std::fprintf(stderr, "ihf train: %s\n", set.error().message.c_str());
+		return kExitFailure;
+	}
+	const auto t1 = std::chrono::steady_clock::now();
+	HocpSplitMetric metric(*set, s.params.hocp, s.params.depthCheckMarginMm);
+	ProgressBar forestBar("forest");
+	HoughForest forest = trainForest(s.forest, metric, set->labels,
+					 [&](size_t d, size_t t) { forestBar.update(d, t); });
+	const auto t2 = std::chrono::steady_clock::now();
+
+	s.params.trainViews = set->views;
+	s.params.trainSamples = static_cast<int>(set->samples.size());
+	s.params.trainSeconds = std::chrono::duration<double>(t2 - t0).count();
+	ForestStorage storage(forest, s.encoding);
+	if (auto st = saveModelFile(o.out, s.params, *mesh, storage.view()); !st) {
+		std::fprintf(stderr, "ihf train: %s\n", st.error().message.c_str());
+		return kExitFailure;
+	}
+	std::fprintf(stderr,
+		     "ihf train: object %d: %d views (%d skipped), %zu parts, %zu nodes; "
+		     "parts %.1fs, forest %.1fs; wrote %s (%.2f MB)\n",
+		     objId, set->views, set->skippedViews, set->samples.size(), forest.nodeCount(),
+		     std::chrono::duration<double>(t1 - t0).count(),
+		     std::chrono::duration<double>(t2 - t1).count(), o.out.c_str(),
+		     std::filesystem::file_size(o.out) / 1e6);
+	return kExitOk;
+}
+
+} // namespace
+
+void addTrainCommand(CLI::App &root, Action &action)
+{
+	auto opts = std::make_shared<TrainOptions>();
+	auto *cmd = root.add_subcommand("train", "Train an IHF forest from an object mesh");
+	cmd->add_option("--model", opts->model, "Object mesh (PLY, mm), e.g. models/obj_000001.ply")
+		->required()->check(CLI::ExistingFile);
+	cmd->add_option("--out", opts->out, "Forest file to write (.ihf)")->required();
+	cmd->add_option("--config", opts->config, "Training configuration (TOML), e.g. config/train.toml")
+		->check(CLI::ExistingFile);
+	cmd->add_option("--camera", opts->camera, "BOP camera.json of the target camera (default: Kinect v1 of LM-O)")
+		->check(CLI::ExistingFile);
+	cmd->add_option("--models-info", opts->modelsInfo, "models_info.json (default: beside the mesh)");
+	cmd->add_option("--obj-id", opts->objId, "Object id (default: from obj_NNNNNN.ply)");
+	cmd->add_option("--threads", opts->threads, "Worker threads (default: from config)")->check(CLI::Range(1, 256));
+	cmd->add_option("--seed", opts->seed, "Random seed (default: from config)")->check(CLI::NonNegativeNumber);
+	cmd->callback([opts, &action] { action = [opts] { return runTrain(*opts); }; });
+}
+
+} // namespace ihf::app

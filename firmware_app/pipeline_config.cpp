@@ -1,0 +1,303 @@
+// SPDX-License-Identifier: MIT
+#include "firmware_app/pipeline_config.h"
+
+#include <set>
+#include <string>
+
+#include <toml++/toml.h>
+
+namespace ihf::app {
+
+namespace {
+
+// Reads keys of one table, remembering which were seen so that leftovers
+// can be reported as unknown.
+class TableReader
+{
+public:
+	TableReader(const toml::table *table, std::string file, std::string section)
+		: table_(table), file_(std::move(file)), section_(std::move(section)) {}
+
+	template<typename T>
+	void get(const char *key, T &out)
+	{
+		seen_.insert(key);
+		if (!table_ || failed())
+			return;
+		const toml::node *node = table_->get(key);
+		if (!node)
+			return;
+		if constexpr (std::is_same_v<T, bool>) {
+			if (auto v = node->value_exact<bool>())
+				out = *v;
+			else
+				fail(key, "a boolean");
+		} else if constexpr (std::is_integral_v<T>) {
+			if (auto v = node->value_exact<int64_t>())
+				out = static_cast<T>(*v);
+			else
+				fail(key, "an integer");
+		} else if constexpr (std::is_floating_point_v<T>) {
+			if (auto v = node->value<double>())
+				out = static_cast<T>(*v);
+			else
+				fail(key, "a number");
+		} else if constexpr (std::is_same_v<T, std::string>) {
+			if (auto v = node->value_exact<std::string>())
+				out = *v;
+			else
+				fail(key, "a string");
+		} else if constexpr (std::is_same_v<T, std::vector<float>>) {
+			const toml::array *arr = node->as_array();
+			if (!arr) {
+				fail(key, "an array of numbers");
+				return;
+			}
+			out.clear();
+			for (const auto &el : *arr) {
+				auto v = el.value<double>();
+				if (!v) {
+					fail(key, "an array of numbers");
+					return;
+				}
+				out.push_back(static_cast<float>(*v));
+			}
+		}
+	}
+
+	// A string key mapped through a list of (name, value) pairs.
+	template<typename E>
+	void getEnum(const char *key, E &out, std::initializer_list<std::pair<const char *, E>> names)
+	{
+		std::string s;
+		bool present = table_ && table_->get(key);
+		get(key, s);
+		if (!present || failed())
+			return;
+		for (const auto &[name, value] : names)
+			if (s == name) {
+				out = value;
+				return;
+			}
+		std::string allowed;
+		for (const auto &[name, value] : names)
+			allowed += std::string(allowed.empty() ? "" : ", ") + name;
+		error_ = makeError(Errc::kParse, file_ + ": " + section_ + "." + key + ": unknown value \"" +
+							 s + "\" (allowed: " + allowed + ")");
+	}
+
+	// Call after all get()s: flags keys nobody asked for.
+	void finish()
+	{
+		if (!table_ || failed())
+			return;
+		for (const auto &[k, v] : *table_)
+			if (!seen_.count(std::string(k.str()))) {
+				error_ = makeError(Errc::kParse, file_ + ": unknown key " + section_ + "." +
+									 std::string(k.str()));
+				return;
+			}
+	}
+
+	bool failed() const { return error_.has_value(); }
+	const Error &error() const { return *error_; }
+
+private:
+	void fail(const char *key, const char *what)
+	{
+		error_ = makeError(Errc::kParse, file_ + ": " + section_ + "." + key + ": expected " + what);
+	}
+
+	const toml::table *table_;
+	std::string file_, section_;
+	std::set<std::string> seen_;
+	std::optional<Error> error_;
+};
+
+Expected<toml::table> parseFile(const std::filesystem::path &path)
+{
+	try {
+		return toml::parse_file(path.string());
+	} catch (const toml::parse_error &e) {
+		const auto &where = e.source().begin;
+		return makeError(Errc::kParse, path.string() + ":" + std::to_string(where.line) + ":" +
+						       std::to_string(where.column) + ": " +
+						       std::string(e.description()));
+	}
+}
+
+Status checkSections(const toml::table &root, const std::string &file,
+		     std::initializer_list<const char *> known)
+{
+	for (const auto &[k, v] : root) {
+		bool ok = false;
+		for (const char *name : known)
+			ok = ok || k.str() == name;
+		if (!ok)
+			return makeError(Errc::kParse, file + ": unknown section [" + std::string(k.str()) + "]");
+		if (!v.is_table())
+			return makeError(Errc::kParse, file + ": " + std::string(k.str()) + " must be a table");
+	}
+	return {};
+}
+
+#define IHF_SECTION(reader)            \
+	do {                           \
+		(reader).finish();     \
+		if ((reader).failed()) \
+			return (reader).error(); \
+	} while (0)
+
+} // namespace
+
+Expected<TrainSettings> loadTrainConfig(const std::filesystem::path &path)
+{
+	TrainSettings s;
+	if (path.empty())
+		return s;
+	auto parsed = parseFile(path);
+	if (!parsed)
+		return parsed.error();
+	const toml::table &root = *parsed;
+	const std::string file = path.string();
+	if (auto st = checkSections(root, file, {"views", "scales", "cloud", "ibs", "parts", "hocp", "forest"}); !st)
+		return st.error();
+
+	TableReader views(root["views"].as_table(), file, "views");
+	views.get("viewpoints", s.set.views.viewpoints);
+	views.get("inplane_steps", s.set.views.inplaneSteps);
+	views.get("min_elevation_deg", s.set.views.minElevationDeg);
+	views.get("max_elevation_deg", s.set.views.maxElevationDeg);
+	views.get("min_distance_mm", s.set.views.minDistance);
+	views.get("max_distance_mm", s.set.views.maxDistance);
+	IHF_SECTION(views);
+
+	TableReader scales(root["scales"].as_table(), file, "scales");
+	scales.get("factors", s.set.scales);
+	scales.get("parts_per_image", s.set.partsPerImage);
+	IHF_SECTION(scales);
+
+	TableReader cloud(root["cloud"].as_table(), file, "cloud");
+	cloud.get("normal_step", s.params.cloud.normalStep);
+	cloud.get("max_jump_mm", s.params.cloud.maxJumpMm);
+	cloud.get("max_jump_rel", s.params.cloud.maxJumpRel);
+	cloud.get("pixel_stride", s.params.cloud.pixelStride);
+	IHF_SECTION(cloud);
+
+	TableReader ibs(root["ibs"].as_table(), file, "ibs");
+	ibs.get("n", s.params.ibs.n);
+	ibs.getEnum("solver", s.params.ibs.solver,
+		    {{"cg", IbsSolver::kConjugateGradient}, {"mba", IbsSolver::kMultilevelBa}});
+	ibs.get("offset_cells", s.params.ibs.offsetCells);
+	ibs.get("offset_value", s.params.ibs.offsetValue);
+	ibs.get("max_points", s.params.ibs.maxPoints);
+	ibs.getEnum("warm_start", s.params.ibs.warmStart,
+		    {{"zero", IbsWarmStart::kZero}, {"mba", IbsWarmStart::kMultilevelBa},
+		     {"previous", IbsWarmStart::kPrevious}});
+	ibs.get("cg_max_iterations", s.params.ibs.cgMaxIterations);
+	ibs.get("cg_tolerance", s.params.ibs.cgTolerance);
+	ibs.get("smoothness", s.params.ibs.smoothness);
+	ibs.get("ridge", s.params.ibs.ridge);
+	ibs.get("mba_levels", s.params.ibs.mbaLevels);
+	IHF_SECTION(ibs);
+
+	TableReader parts(root["parts"].as_table(), file, "parts");
+	parts.getEnum("kind", s.params.parts.kind,
+		      {{"variable", PartKind::kVariable}, {"fixed", PartKind::kFixed}});
+	parts.get("stride", s.params.parts.stride);
+	parts.get("fixed_fraction", s.params.parts.fixedFraction);
+	parts.get("variable_side", s.params.parts.variableSide);
+	parts.get("depth_margin_cells", s.params.parts.depthMarginCells);
+	parts.get("max_control_points", s.params.parts.maxControlPoints);
+	parts.getEnum("cap", s.params.parts.cap,
+		      {{"uniform", PartCap::kUniform}, {"largest_weight", PartCap::kLargestWeight}});
+	parts.get("min_data_points", s.params.parts.minDataPoints);
+	IHF_SECTION(parts);
+
+	TableReader hocp(root["hocp"].as_table(), file, "hocp");
+	hocp.get("n_r", s.params.hocp.nR);
+	hocp.get("n_theta", s.params.hocp.nTheta);
+	hocp.get("n_phi", s.params.hocp.nPhi);
+	hocp.get("r_min_fraction", s.params.hocp.rMinFraction);
+	hocp.getEnum("weighting", s.params.hocp.weighting,
+		     {{"count", HocpWeighting::kCount}, {"abs_weight", HocpWeighting::kAbsWeight},
+		      {"sign_split", HocpWeighting::kSignSplit}});
+	IHF_SECTION(hocp);
+
+	TableReader forest(root["forest"].as_table(), file, "forest");
+	forest.get("trees", s.forest.trees);
+	forest.get("max_depth", s.forest.maxDepth);
+	forest.get("max_leaf_samples", s.forest.maxLeafSamples);
+	forest.get("templates_per_node", s.forest.templatesPerNode);
+	forest.get("sample_fraction", s.forest.sampleFraction);
+	forest.getEnum("objective", s.forest.objective,
+		       {{"alternate", SplitObjective::kAlternate}, {"offset", SplitObjective::kOffset},
+			{"pose", SplitObjective::kPose}, {"sum", SplitObjective::kSum}});
+	forest.get("depth_check_margin_mm", s.params.depthCheckMarginMm);
+	forest.get("seed", s.forest.seed);
+	forest.get("threads", s.forest.threads);
+	forest.getEnum("encoding", s.encoding,
+		       {{"uint8", TemplateEncoding::kUint8}, {"float32", TemplateEncoding::kFloat32}});
+	IHF_SECTION(forest);
+
+	s.set.seed = s.forest.seed;
+	s.set.views.seed = s.forest.seed;
+	s.set.threads = s.forest.threads;
+	s.params.seed = s.forest.seed;
+	return s;
+}
+
+Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
+{
+	EstimateSettings s;
+	if (path.empty())
+		return s;
+	auto parsed = parseFile(path);
+	if (!parsed)
+		return parsed.error();
+	const toml::table &root = *parsed;
+	const std::string file = path.string();
+	if (auto st = checkSections(root, file, {"refinement", "votes", "score", "icp", "limits"}); !st)
+		return st.error();
+	EstimatorConfig &e = s.estimator;
+
+	TableReader ref(root["refinement"].as_table(), file, "refinement");
+	ref.get("iterations", e.iterations);
+	ref.get("psi1", e.psi1);
+	ref.get("psi2", e.psi2);
+	ref.get("part_stride", e.partStride);
+	ref.get("min_valid_pixels", e.minValidPixels);
+	IHF_SECTION(ref);
+
+	TableReader votes(root["votes"].as_table(), file, "votes");
+	votes.get("max_hypotheses", e.maxHypotheses);
+	votes.get("translation_bandwidth", e.translationBandwidth);
+	votes.get("rotation_bandwidth_deg", e.rotationBandwidthDeg);
+	IHF_SECTION(votes);
+
+	TableReader score(root["score"].as_table(), file, "score");
+	score.get("inlier_mm", e.score.inlierMm);
+	score.get("occluded_weight", e.score.occludedWeight);
+	IHF_SECTION(score);
+
+	TableReader icp(root["icp"].as_table(), file, "icp");
+	icp.get("enabled", e.icp);
+	icp.get("iterations", e.icpConfig.iterations);
+	icp.get("max_distance_mm", e.icpConfig.maxDistanceMm);
+	icp.get("min_distance_mm", e.icpConfig.minDistanceMm);
+	IHF_SECTION(icp);
+
+	TableReader lim(root["limits"].as_table(), file, "limits");
+	lim.get("max_window_pixels", s.limits.maxWindowPixels);
+	lim.get("max_parts", s.limits.maxParts);
+	lim.get("max_part_control_points", s.limits.maxPartControlPoints);
+	lim.get("max_votes", s.limits.maxVotes);
+	lim.get("max_active", s.limits.maxActive);
+	lim.get("max_ibs_points", s.limits.maxIbsPoints);
+	lim.get("max_ibs_n", s.limits.maxIbsN);
+	lim.get("max_mesh_vertices", s.limits.maxMeshVertices);
+	IHF_SECTION(lim);
+	return s;
+}
+
+} // namespace ihf::app

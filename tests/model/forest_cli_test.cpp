@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: MIT
+// `ihf forest info` end to end: the summary of a saved file (counts checked
+// against the forest it was built from), exit 1 naming the fault on a
+// damaged file, exit 2 on usage errors.
+
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "core/forest/forest_view.h"
+#include "core/model/forest_file.h"
+#include "tests/common/test_paths.h"
+#include "tests/model/model_fixture.h"
+
+namespace ihf {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string q(const fs::path &p)
+{
+	return "'" + p.string() + "'";
+}
+
+class ForestCliTest : public ::testing::Test
+{
+protected:
+	void SetUp() override
+	{
+		dir_ = test::freshTempDir("forest_cli");
+		forest_ = test::makeForest(4, 6, 99);
+		ForestStorage storage(forest_, TemplateEncoding::kUint8);
+		file_ = dir_ / "obj_000006.ihf";
+		Status s = saveModelFile(file_, test::makeParams(), test::makeMesh(), storage.view());
+		ASSERT_TRUE(s.ok()) << s.error().message;
+	}
+
+	fs::path dir_;
+	fs::path file_;
+	HoughForest forest_;
+};
+
+TEST_F(ForestCliTest, InfoPrintsTheSummary)
+{
+	auto r = test::runIhf("forest info " + q(file_));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	const std::string &out = r.output;
+	EXPECT_NE(out.find("format version 1, " + std::to_string(fs::file_size(file_)) + " bytes"),
+		  std::string::npos)
+		<< out;
+	EXPECT_NE(out.find("forest: 4 trees, dims 96, templates uint8"), std::string::npos) << out;
+	EXPECT_NE(out.find("mesh: 8 vertices, 12 faces, with normals"), std::string::npos) << out;
+	EXPECT_NE(out.find("\"weighting\": \"sign_split\""), std::string::npos) << out;
+	for (const char *section : {"PARAMS", "FOREST", "MESH_VERTICES", "MESH_FACES",
+				    "MESH_NORMALS", "NODES", "TEMPLATES", "VOTES"})
+		EXPECT_NE(out.find(section), std::string::npos) << section;
+
+	// Per-tree row: index, nodes, leaves, templates, votes, depth.
+	size_t nodes = 0, votes = 0;
+	for (size_t t = 0; t < forest_.trees.size(); ++t) {
+		const HoughTree &tree = forest_.trees[t];
+		char row[128];
+		std::snprintf(row, sizeof(row), "  %4zu %10zu %10zu %10zu %10zu %6d\n", t,
+			      tree.nodes.size(), tree.leafCount(), tree.templates.size() / 96,
+			      tree.votes.size(), tree.depth());
+		EXPECT_NE(out.find(row), std::string::npos) << "missing row: " << row << out;
+		nodes += tree.nodes.size();
+		votes += tree.votes.size();
+	}
+	EXPECT_NE(out.find(" all " + std::string(10 - std::to_string(nodes).size(), ' ') +
+			   std::to_string(nodes)),
+		  std::string::npos)
+		<< out;
+
+	// The CRC column shows the stored checksums.
+	const auto entries = test::rawEntries(test::readBytes(file_));
+	char crc[16];
+	std::snprintf(crc, sizeof(crc), "0x%08x", entries[0].crc);
+	EXPECT_NE(out.find(crc), std::string::npos) << out;
+}
+
+TEST_F(ForestCliTest, CorruptFileExitsOne)
+{
+	test::Bytes b = test::readBytes(file_);
+	const auto *votes = test::findEntry(test::rawEntries(b), test::kRawVotes, 3);
+	ASSERT_TRUE(votes && votes->size > 0);
+	b[votes->offset + 3] ^= 0xff;
+	const fs::path bad = dir_ / "bad.ihf";
+	test::writeBytes(bad, b);
+	auto r = test::runIhf("forest info " + q(bad));
+	EXPECT_EQ(r.exitCode, 1) << r.output;
+	EXPECT_NE(r.output.find("ihf forest info: " + bad.string()), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("(VOTES of tree 3): CRC mismatch"), std::string::npos) << r.output;
+
+	r = test::runIhf("forest info " + q(dir_ / "missing.ihf"));
+	EXPECT_EQ(r.exitCode, 1) << r.output;
+	EXPECT_NE(r.output.find("missing.ihf: file not found"), std::string::npos) << r.output;
+}
+
+TEST_F(ForestCliTest, UsageErrorsExitTwo)
+{
+	EXPECT_EQ(test::runIhf("forest").exitCode, 2);
+	EXPECT_EQ(test::runIhf("forest info").exitCode, 2);
+	EXPECT_EQ(test::runIhf("forest info " + q(file_) + " extra").exitCode, 2);
+	EXPECT_EQ(test::runIhf("forest frobnicate " + q(file_)).exitCode, 2);
+	auto help = test::runIhf("forest info --help");
+	EXPECT_EQ(help.exitCode, 0);
+	EXPECT_NE(help.output.find("forest file (.ihf)"), std::string::npos) << help.output;
+}
+
+} // namespace
+} // namespace ihf

@@ -1,0 +1,600 @@
+// SPDX-License-Identifier: MIT
+// The forest file: the documented byte layout, exact round trips for both
+// template encodings, the view used in place inside the mapping, and every
+// kind of damage refused with a message naming the file and the fault.
+
+#include <cstring>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "core/features/hocp.h"
+#include "core/forest/forest_view.h"
+#include "core/model/forest_file.h"
+#include "tests/common/test_paths.h"
+#include "tests/model/model_fixture.h"
+
+namespace ihf {
+namespace {
+
+namespace fs = std::filesystem;
+using test::Bytes;
+
+bool inside(const void *p, std::span<const std::byte> range)
+{
+	auto *b = static_cast<const std::byte *>(p);
+	return b >= range.data() && b < range.data() + range.size();
+}
+
+class ForestFileTest : public ::testing::Test
+{
+protected:
+	void SetUp() override
+	{
+		dir_ = test::freshTempDir(std::string("model_") +
+					  ::testing::UnitTest::GetInstance()->current_test_info()->name());
+		params_ = test::makeParams();
+		mesh_ = test::makeMesh();
+		forest_ = test::makeForest(3, 7, 42);
+		ASSERT_EQ(hocpDimension(params_.hocp), test::kFixtureDims);
+	}
+
+	fs::path save(TemplateEncoding enc, const std::string &name = "model.ihf")
+	{
+		ForestStorage storage(forest_, enc);
+		fs::path file = dir_ / name;
+		Status s = saveModelFile(file, params_, mesh_, storage.view());
+		EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().message);
+		return file;
+	}
+
+	// Loads a file that must fail; returns the error.
+	Error loadError(const fs::path &file)
+	{
+		auto r = loadModelFile(file);
+		EXPECT_FALSE(r.ok()) << file << " loaded";
+		if (r.ok())
+			return {};
+		EXPECT_NE(r.error().message.find(file.string()), std::string::npos)
+			<< "error does not name the file: " << r.error().message;
+		return r.error();
+	}
+
+	// Writes bytes to a fresh file and returns its load error.
+	Error loadErrorOf(const Bytes &bytes, const std::string &name = "bad.ihf")
+	{
+		fs::path file = dir_ / name;
+		test::writeBytes(file, bytes);
+		return loadError(file);
+	}
+
+	fs::path dir_;
+	ModelParams params_;
+	Mesh mesh_;
+	HoughForest forest_;
+};
+
+TEST_F(ForestFileTest, LayoutFollowsTheSpec)
+{
+	const fs::path file = save(TemplateEncoding::kUint8);
+	const Bytes b = test::readBytes(file);
+	ASSERT_GE(b.size(), 64u);
+	EXPECT_EQ(std::string(b.begin(), b.begin() + 8), "IHFOREST");
+	EXPECT_EQ(test::rd32(b, 8), 1u); // version
+	// Endianness marker 0x01020304 stored little-endian.
+	EXPECT_EQ(b[12], 0x04);
+	EXPECT_EQ(b[13], 0x03);
+	EXPECT_EQ(b[14], 0x02);
+	EXPECT_EQ(b[15], 0x01);
+	EXPECT_EQ(test::rd32(b, 16), 64u); // header size
+	EXPECT_EQ(test::rd64(b, 24), b.size());
+	Bytes h(b.begin(), b.begin() + 64);
+	test::wr32(h, 32, 0);
+	EXPECT_EQ(test::rd32(b, 32), test::crcOf(h.data(), 64));
+
+	const auto entries = test::rawEntries(b);
+	// PARAMS, FOREST, vertices, faces, normals, 3 sections per tree.
+	ASSERT_EQ(entries.size(), 5u + 3u * forest_.trees.size());
+	EXPECT_EQ(test::rd32(b, 36), test::crcOf(b.data() + 64, 48 * entries.size()));
+	for (const auto &e : entries) {
+		EXPECT_EQ(e.offset % 64, 0u);
+		EXPECT_LE(e.offset + e.size, b.size());
+		EXPECT_EQ(e.size, uint64_t{e.elementSize} * e.elementCount);
+		EXPECT_EQ(e.crc, test::crcOf(b.data() + e.offset, e.size));
+	}
+	for (uint32_t t = 0; t < forest_.trees.size(); ++t) {
+		const HoughTree &tree = forest_.trees[t];
+		const auto *nodes = test::findEntry(entries, test::kRawNodes, t);
+		const auto *templ = test::findEntry(entries, test::kRawTemplates, t);
+		const auto *votes = test::findEntry(entries, test::kRawVotes, t);
+		ASSERT_TRUE(nodes && templ && votes);
+		EXPECT_EQ(nodes->elementSize, 32u);
+		EXPECT_EQ(nodes->elementCount, tree.nodes.size());
+		EXPECT_EQ(templ->elementSize, 96u); // dims uint8 per template
+		EXPECT_EQ(templ->elementCount, tree.templates.size() / 96);
+		EXPECT_EQ(votes->elementSize, 16u);
+		EXPECT_EQ(votes->elementCount, tree.votes.size());
+		// A node record is the 32-byte little-endian TreeNode.
+		const TreeNode &root = tree.nodes[0];
+		EXPECT_EQ(static_cast<int32_t>(test::rd32(b, nodes->offset)), root.left);
+		EXPECT_EQ(static_cast<int32_t>(test::rd32(b, nodes->offset + 4)), root.right);
+	}
+	const auto *verts = test::findEntry(entries, test::kRawVertices);
+	ASSERT_TRUE(verts);
+	float x0;
+	std::memcpy(&x0, b.data() + verts->offset, 4);
+	EXPECT_EQ(x0, mesh_.vertices[0].x());
+}
+
+void expectRoundTrip(const HoughForest &forest, TemplateEncoding enc, const ObjectModel &model,
+		     const ModelParams &params, const Mesh &mesh)
+{
+	test::expectParamsEqual(params, model.params());
+
+	const Mesh &m = model.mesh();
+	ASSERT_EQ(m.vertices.size(), mesh.vertices.size());
+	ASSERT_EQ(m.faces.size(), mesh.faces.size());
+	ASSERT_EQ(m.normals.size(), mesh.normals.size());
+	for (size_t i = 0; i < mesh.vertices.size(); ++i)
+		EXPECT_EQ(m.vertices[i], mesh.vertices[i]);
+	for (size_t i = 0; i < mesh.normals.size(); ++i)
+		EXPECT_EQ(m.normals[i], mesh.normals[i]);
+	for (size_t i = 0; i < mesh.faces.size(); ++i)
+		EXPECT_EQ(m.faces[i], mesh.faces[i]);
+
+	const ForestView &v = model.forest();
+	EXPECT_EQ(v.dims, forest.dims);
+	EXPECT_EQ(v.encoding, enc);
+	ASSERT_EQ(v.trees.size(), forest.trees.size());
+	for (size_t t = 0; t < forest.trees.size(); ++t) {
+		const HoughTree &src = forest.trees[t];
+		const TreeView &tv = v.trees[t];
+		ASSERT_EQ(tv.nodes.size(), src.nodes.size());
+		EXPECT_EQ(std::memcmp(tv.nodes.data(), src.nodes.data(), src.nodes.size() * 32), 0);
+		if (enc == TemplateEncoding::kFloat32) {
+			EXPECT_EQ(std::memcmp(tv.templates, src.templates.data(),
+					      src.templates.size() * sizeof(float)),
+				  0);
+		} else {
+			const auto *q = static_cast<const uint8_t *>(tv.templates);
+			size_t bad = 0;
+			for (size_t i = 0; i < src.templates.size(); ++i)
+				bad += q[i] != quantiseBin(src.templates[i]);
+			EXPECT_EQ(bad, 0u) << "tree " << t;
+		}
+		ASSERT_EQ(tv.votes.size(), src.votes.size());
+		for (size_t i = 0; i < src.votes.size(); ++i) {
+			const PackedVote want = PackedVote::pack(src.votes[i]);
+			const PackedVote &got = tv.votes[i];
+			for (int k = 0; k < 3; ++k)
+				EXPECT_EQ(got.offset[k], want.offset[k]);
+			for (int k = 0; k < 4; ++k)
+				EXPECT_EQ(got.rotation[k], want.rotation[k]);
+			// The packing keeps offsets to the millimetre.
+			EXPECT_NEAR(got.offset[0], src.votes[i].offset.x(), 0.5f);
+		}
+	}
+}
+
+TEST_F(ForestFileTest, RoundTripFloat32)
+{
+	const fs::path file = save(TemplateEncoding::kFloat32);
+	auto model = loadModelFile(file);
+	ASSERT_TRUE(model.ok()) << model.error().message;
+	expectRoundTrip(forest_, TemplateEncoding::kFloat32, **model, params_, mesh_);
+}
+
+TEST_F(ForestFileTest, RoundTripUint8)
+{
+	const fs::path file = save(TemplateEncoding::kUint8);
+	auto model = loadModelFile(file);
+	ASSERT_TRUE(model.ok()) << model.error().message;
+	expectRoundTrip(forest_, TemplateEncoding::kUint8, **model, params_, mesh_);
+}
+
+TEST_F(ForestFileTest, MeshWithoutNormals)
+{
+	mesh_ = test::makeMesh(false);
+	const fs::path file = save(TemplateEncoding::kFloat32);
+	auto model = loadModelFile(file);
+	ASSERT_TRUE(model.ok()) << model.error().message;
+	EXPECT_FALSE((*model)->mesh().hasNormals());
+	EXPECT_EQ(test::rawEntries(test::readBytes(file)).size(), 4u + 3u * forest_.trees.size());
+	expectRoundTrip(forest_, TemplateEncoding::kFloat32, **model, params_, mesh_);
+}
+
+TEST_F(ForestFileTest, ViewPointsIntoTheMapping)
+{
+	const fs::path file = save(TemplateEncoding::kFloat32);
+	auto model = loadModelFile(file);
+	ASSERT_TRUE(model.ok()) << model.error().message;
+	const auto *mapped = dynamic_cast<const MappedObjectModel *>(model->get());
+	ASSERT_NE(mapped, nullptr);
+	const auto range = mapped->mapping();
+	EXPECT_EQ(range.size(), fs::file_size(file));
+	// The mapping is the file's bytes.
+	const Bytes b = test::readBytes(file);
+	EXPECT_EQ(std::memcmp(range.data(), b.data(), b.size()), 0);
+	for (const TreeView &tv : mapped->forest().trees) {
+		EXPECT_TRUE(inside(tv.templates, range));
+		EXPECT_TRUE(inside(tv.nodes.data(), range));
+		EXPECT_TRUE(inside(tv.votes.data(), range));
+	}
+}
+
+TEST_F(ForestFileTest, SummaryCountsMatchTheForest)
+{
+	const fs::path file = save(TemplateEncoding::kUint8);
+	auto s = summariseModelFile(file);
+	ASSERT_TRUE(s.ok()) << s.error().message;
+	EXPECT_EQ(s->version, 1u);
+	EXPECT_EQ(s->fileSize, fs::file_size(file));
+	EXPECT_EQ(s->dims, 96);
+	EXPECT_EQ(s->encoding, TemplateEncoding::kUint8);
+	ASSERT_EQ(s->trees.size(), forest_.trees.size());
+	for (size_t t = 0; t < forest_.trees.size(); ++t) {
+		const HoughTree &tree = forest_.trees[t];
+		EXPECT_EQ(s->trees[t].nodes, tree.nodes.size());
+		EXPECT_EQ(s->trees[t].leaves, tree.leafCount());
+		EXPECT_EQ(s->trees[t].templates, tree.templates.size() / 96);
+		EXPECT_EQ(s->trees[t].votes, tree.votes.size());
+		EXPECT_EQ(s->trees[t].depth, tree.depth());
+	}
+	EXPECT_EQ(s->vertices, 8u);
+	EXPECT_EQ(s->faces, 12u);
+	EXPECT_TRUE(s->normals);
+	const std::string text = formatForestFileSummary(*s);
+	EXPECT_NE(text.find("NODES"), std::string::npos) << text;
+	EXPECT_NE(text.find("\"obj_id\": 6"), std::string::npos) << text;
+}
+
+// A chain of `depth` levels: split i (node 2i) has the leaf 2i+1 on the
+// left and the next split (or the last leaf) 2i+2 on the right. With extra,
+// an unreachable split with two leaves follows, for the forged test below.
+HoughForest chainForest(int depth, bool extra)
+{
+	HoughForest f;
+	f.dims = test::kFixtureDims;
+	HoughTree t;
+	const int splits = depth - 1;
+	for (int i = 0; i < splits; ++i) {
+		TreeNode n;
+		n.left = 2 * i + 1;
+		n.right = 2 * i + 2;
+		n.templateIndex = static_cast<uint32_t>(i);
+		n.threshold = 0.5f;
+		t.nodes.push_back(n);
+		t.nodes.push_back(TreeNode{});
+	}
+	t.nodes.push_back(TreeNode{});
+	int templates = splits;
+	if (extra) {
+		TreeNode n;
+		n.left = static_cast<int32_t>(t.nodes.size()) + 1;
+		n.right = n.left + 1;
+		n.templateIndex = static_cast<uint32_t>(templates++);
+		t.nodes.push_back(n);
+		t.nodes.push_back(TreeNode{});
+		t.nodes.push_back(TreeNode{});
+	}
+	t.templates.assign(size_t(templates) * test::kFixtureDims, 0.1f);
+	f.trees.push_back(t);
+	return f;
+}
+
+TEST_F(ForestFileTest, DepthLimit)
+{
+	forest_ = chainForest(64, false);
+	ASSERT_EQ(forest_.trees[0].depth(), 64);
+	auto model = loadModelFile(save(TemplateEncoding::kFloat32, "deep64.ihf"));
+	ASSERT_TRUE(model.ok()) << model.error().message;
+	EXPECT_EQ(dynamic_cast<const MappedObjectModel &>(**model).summary().trees[0].depth, 64);
+
+	forest_ = chainForest(65, false);
+	ForestStorage storage(forest_, TemplateEncoding::kFloat32);
+	Status s = saveModelFile(dir_ / "deep65.ihf", params_, mesh_, storage.view());
+	ASSERT_FALSE(s.ok());
+	EXPECT_NE(s.error().message.find("deeper than 64"), std::string::npos) << s.error().message;
+	EXPECT_FALSE(fs::exists(dir_ / "deep65.ihf"));
+
+	// The loader: the last split of a 64-deep chain is rewired to the extra
+	// split, making the chain 65 deep.
+	forest_ = chainForest(64, true);
+	Bytes b = test::readBytes(save(TemplateEncoding::kFloat32, "deep_forged.ihf"));
+	const auto *nodes = test::findEntry(test::rawEntries(b), test::kRawNodes, 0);
+	ASSERT_TRUE(nodes);
+	const size_t lastSplit = 2 * 62; // split 62, at depth 63
+	test::wr32(b, nodes->offset + 32 * lastSplit + 4, 127); // right child
+	test::resealCrcs(b);
+	Error e = loadErrorOf(b);
+	EXPECT_EQ(e.code, Errc::kCorrupt);
+	EXPECT_NE(e.message.find("tree 0 node 127: tree deeper than 64"), std::string::npos)
+		<< e.message;
+}
+
+TEST_F(ForestFileTest, TruncatedFilesAreRefused)
+{
+	const Bytes full = test::readBytes(save(TemplateEncoding::kUint8));
+	for (size_t cut : {size_t{0}, size_t{10}, size_t{63}, size_t{64}, size_t{200}, full.size() / 2,
+			   full.size() - 64, full.size() - 1}) {
+		Error e = loadErrorOf(Bytes(full.begin(), full.begin() + cut));
+		EXPECT_EQ(e.code, Errc::kCorrupt) << "cut at " << cut;
+		EXPECT_NE(e.message.find("truncated"), std::string::npos)
+			<< "cut at " << cut << ": " << e.message;
+	}
+	Bytes longer = full;
+	longer.resize(full.size() + 64);
+	Error e = loadErrorOf(longer);
+	EXPECT_NE(e.message.find("trailing data"), std::string::npos) << e.message;
+}
+
+TEST_F(ForestFileTest, FlippedByteInEachSectionIsNamed)
+{
+	const Bytes full = test::readBytes(save(TemplateEncoding::kFloat32));
+	const auto entries = test::rawEntries(full);
+	const char *names[] = {"", "PARAMS", "FOREST", "MESH_VERTICES", "MESH_FACES", "MESH_NORMALS"};
+	int checked = 0;
+	for (const auto &entry : entries) {
+		if (entry.size == 0)
+			continue;
+		Bytes b = full;
+		b[entry.offset + entry.size / 2] ^= 0x10;
+		Error e = loadErrorOf(b);
+		std::string want;
+		if (entry.type <= test::kRawNormals)
+			want = names[entry.type];
+		else
+			want = std::string(entry.type == test::kRawNodes ? "NODES"
+					   : entry.type == test::kRawTemplates ? "TEMPLATES"
+									       : "VOTES") +
+			       " of tree " + std::to_string(entry.tree);
+		EXPECT_EQ(e.code, Errc::kCorrupt);
+		EXPECT_NE(e.message.find("(" + want + "): CRC mismatch"), std::string::npos)
+			<< want << ": " << e.message;
+		++checked;
+	}
+	EXPECT_GE(checked, 14);
+
+	Bytes b = full;
+	b[44] ^= 1; // reserved header byte, covered by the header CRC
+	EXPECT_NE(loadErrorOf(b).message.find("header CRC mismatch"), std::string::npos);
+	b = full;
+	b[64 + 16] ^= 1; // size of the first section entry
+	EXPECT_NE(loadErrorOf(b).message.find("section table CRC mismatch"), std::string::npos);
+}
+
+TEST_F(ForestFileTest, WrongMagicVersionAndByteOrder)
+{
+	const Bytes full = test::readBytes(save(TemplateEncoding::kFloat32));
+	Bytes b = full;
+	b[0] = 'X';
+	Error e = loadErrorOf(b);
+	EXPECT_EQ(e.code, Errc::kCorrupt);
+	EXPECT_NE(e.message.find("not an ihf forest file"), std::string::npos) << e.message;
+
+	b = full;
+	test::wr32(b, 8, 2);
+	test::resealCrcs(b);
+	e = loadErrorOf(b);
+	EXPECT_EQ(e.code, Errc::kUnsupported);
+	EXPECT_NE(e.message.find("version 2; this build reads version 1"), std::string::npos)
+		<< e.message;
+
+	b = full;
+	test::wr32(b, 12, 0x04030201); // as a big-endian writer would leave it
+	test::resealCrcs(b);
+	e = loadErrorOf(b);
+	EXPECT_EQ(e.code, Errc::kUnsupported);
+	EXPECT_NE(e.message.find("big-endian"), std::string::npos) << e.message;
+}
+
+// Rewrites one field of one node of tree 1 and reseals the CRCs.
+Bytes forgeNode(const Bytes &full, uint32_t node, size_t field, uint32_t value)
+{
+	Bytes b = full;
+	const auto *nodes = test::findEntry(test::rawEntries(b), test::kRawNodes, 1);
+	EXPECT_TRUE(nodes);
+	test::wr32(b, nodes->offset + 32 * size_t{node} + field, value);
+	test::resealCrcs(b);
+	return b;
+}
+
+TEST_F(ForestFileTest, ForgedNodesAreRefused)
+{
+	const Bytes full = test::readBytes(save(TemplateEncoding::kFloat32));
+	const HoughTree &tree = forest_.trees[1];
+	// A split that is not the root, and a leaf with votes.
+	uint32_t split = 0, leaf = 0;
+	for (uint32_t i = 1; i < tree.nodes.size(); ++i)
+		if (!tree.nodes[i].isLeaf() && split == 0)
+			split = i;
+	for (uint32_t i = 0; i < tree.nodes.size(); ++i)
+		if (tree.nodes[i].isLeaf() && tree.nodes[i].voteCount > 0 && leaf == 0)
+			leaf = i;
+	ASSERT_GT(split, 0u);
+	ASSERT_GT(leaf, 0u);
+	const std::string at = "tree 1 node " + std::to_string(split) + ": ";
+
+	// Left child pointing back at the root: a cycle.
+	Error e = loadErrorOf(forgeNode(full, split, 0, 0));
+	EXPECT_EQ(e.code, Errc::kCorrupt);
+	EXPECT_NE(e.message.find(at + "child index 0 points backwards"), std::string::npos)
+		<< e.message;
+	// Pointing at itself.
+	e = loadErrorOf(forgeNode(full, split, 4, split));
+	EXPECT_NE(e.message.find(at + "child index " + std::to_string(split) + " points backwards"),
+		  std::string::npos)
+		<< e.message;
+	// Past the end.
+	const uint32_t n = static_cast<uint32_t>(tree.nodes.size());
+	e = loadErrorOf(forgeNode(full, split, 4, n));
+	EXPECT_NE(e.message.find(at + "child index " + std::to_string(n) + " out of range"),
+		  std::string::npos)
+		<< e.message;
+	// Half a leaf.
+	e = loadErrorOf(forgeNode(full, split, 0, 0xffffffffu));
+	EXPECT_NE(e.message.find(at + "child index -1"), std::string::npos) << e.message;
+	// Template that does not exist.
+	const uint32_t templates = static_cast<uint32_t>(tree.templates.size() / 96);
+	e = loadErrorOf(forgeNode(full, split, 8, templates));
+	EXPECT_NE(e.message.find(at + "template index " + std::to_string(templates) +
+				 " out of range"),
+		  std::string::npos)
+		<< e.message;
+
+	// Leaf votes running past the tree's votes.
+	const std::string leafAt = "tree 1 node " + std::to_string(leaf) + ": ";
+	e = loadErrorOf(forgeNode(full, leaf, 24, static_cast<uint32_t>(tree.votes.size())));
+	EXPECT_NE(e.message.find(leafAt + "leaf votes"), std::string::npos) << e.message;
+	EXPECT_NE(e.message.find("outside the tree's " + std::to_string(tree.votes.size()) + " votes"),
+		  std::string::npos)
+		<< e.message;
+	e = loadErrorOf(forgeNode(full, leaf, 28, 0xffffffffu)); // count overflowing 32 bits
+	EXPECT_NE(e.message.find(leafAt + "leaf votes"), std::string::npos) << e.message;
+
+	// The unforged bytes still load (the forging itself is sound).
+	Bytes same = full;
+	test::resealCrcs(same);
+	fs::path okFile = dir_ / "resealed.ihf";
+	test::writeBytes(okFile, same);
+	EXPECT_TRUE(loadModelFile(okFile).ok());
+}
+
+TEST_F(ForestFileTest, ForgedTableAndParamsAreRefused)
+{
+	const Bytes full = test::readBytes(save(TemplateEncoding::kUint8));
+	const auto entries = test::rawEntries(full);
+
+	// A section moved off its 64-byte boundary.
+	Bytes b = full;
+	const auto *votes = test::findEntry(entries, test::kRawVotes, 2);
+	test::wr32(b, votes->at + 8, static_cast<uint32_t>(votes->offset + 4));
+	test::resealCrcs(b);
+	Error e = loadErrorOf(b);
+	EXPECT_NE(e.message.find("(VOTES of tree 2): offset"), std::string::npos) << e.message;
+
+	// A section running past the end of the file.
+	b = full;
+	test::wr32(b, votes->at + 16, static_cast<uint32_t>(full.size()));
+	test::wr32(b, votes->at + 28, static_cast<uint32_t>(full.size() / 16));
+	test::resealCrcs(b);
+	e = loadErrorOf(b);
+	EXPECT_NE(e.message.find("(VOTES of tree 2): bytes"), std::string::npos) << e.message;
+
+	// Wrong element size for the encoding: claim float templates.
+	b = full;
+	const auto *forest = test::findEntry(entries, test::kRawForest);
+	test::wr32(b, forest->offset + 4, 0); // encoding float32
+	test::resealCrcs(b);
+	e = loadErrorOf(b);
+	EXPECT_NE(e.message.find("TEMPLATES of tree 0: element size 96, expected 384"),
+		  std::string::npos)
+		<< e.message;
+
+	// dims disagreeing with the parameters' HoCP settings.
+	b = full;
+	test::wr32(b, forest->offset + 0, 64);
+	test::resealCrcs(b);
+	e = loadErrorOf(b);
+	EXPECT_NE(e.message.find("FOREST: dims 64 do not match the HoCP dimension 96"),
+		  std::string::npos)
+		<< e.message;
+
+	// A face index past the vertices.
+	b = full;
+	const auto *faces = test::findEntry(entries, test::kRawFaces);
+	test::wr32(b, faces->offset + 12 * 5 + 8, 8);
+	test::resealCrcs(b);
+	e = loadErrorOf(b);
+	EXPECT_NE(e.message.find("MESH_FACES: face 5 uses vertex 8 of 8"), std::string::npos)
+		<< e.message;
+
+	// PARAMS with a bad field: the error names the file, section and field.
+	b = full;
+	const auto *params = test::findEntry(entries, test::kRawParams);
+	std::string text(b.begin() + params->offset, b.begin() + params->offset + params->size);
+	const size_t pos = text.find("\"n_r\": 3");
+	ASSERT_NE(pos, std::string::npos) << text;
+	b[params->offset + pos + 7] = '0';
+	test::resealCrcs(b);
+	fs::path bad = dir_ / "params.ihf";
+	test::writeBytes(bad, b);
+	e = loadError(bad);
+	EXPECT_NE(e.message.find(bad.string() + ": PARAMS: hocp.n_r: must be at least 1"),
+		  std::string::npos)
+		<< e.message;
+}
+
+TEST_F(ForestFileTest, MissingFile)
+{
+	Error e = loadError(dir_ / "nothing.ihf");
+	EXPECT_EQ(e.code, Errc::kNotFound);
+	EXPECT_NE(e.message.find("file not found"), std::string::npos) << e.message;
+
+	Error d = loadError(dir_);
+	EXPECT_EQ(d.code, Errc::kIo);
+}
+
+TEST_F(ForestFileTest, SaveIntoMissingFolderFailsCleanly)
+{
+	ForestStorage storage(forest_, TemplateEncoding::kUint8);
+	const fs::path file = dir_ / "no_such_dir" / "model.ihf";
+	Status s = saveModelFile(file, params_, mesh_, storage.view());
+	ASSERT_FALSE(s.ok());
+	EXPECT_NE(s.error().message.find(file.string()), std::string::npos) << s.error().message;
+	EXPECT_NE(s.error().message.find("does not exist"), std::string::npos) << s.error().message;
+	EXPECT_FALSE(fs::exists(dir_ / "no_such_dir"));
+	EXPECT_TRUE(fs::is_empty(dir_)); // no temporary file either
+}
+
+TEST_F(ForestFileTest, FailedSaveKeepsTheOldFile)
+{
+	const fs::path file = save(TemplateEncoding::kFloat32);
+	const Bytes before = test::readBytes(file);
+
+	// Descriptor settings that do not match the forest's dims.
+	ModelParams other = params_;
+	other.hocp.nR = 4;
+	ForestStorage storage(forest_, TemplateEncoding::kUint8);
+	Status s = saveModelFile(file, other, mesh_, storage.view());
+	ASSERT_FALSE(s.ok());
+	EXPECT_NE(s.error().message.find("forest dims 96 do not match the HoCP dimension 128"),
+		  std::string::npos)
+		<< s.error().message;
+
+	// A broken tree in memory.
+	HoughForest broken = forest_;
+	broken.trees[2].nodes[0].right = 0;
+	ForestStorage brokenStorage(broken, TemplateEncoding::kUint8);
+	s = saveModelFile(file, params_, mesh_, brokenStorage.view());
+	ASSERT_FALSE(s.ok());
+	EXPECT_NE(s.error().message.find("tree 2 node 0: child index 0 points backwards"),
+		  std::string::npos)
+		<< s.error().message;
+
+	EXPECT_EQ(test::readBytes(file), before);
+	size_t files = 0;
+	for ([[maybe_unused]] const auto &entry : fs::directory_iterator(dir_))
+		++files;
+	EXPECT_EQ(files, 1u);
+}
+
+TEST_F(ForestFileTest, OverwriteReplacesAtomically)
+{
+	const fs::path file = save(TemplateEncoding::kFloat32);
+	// A model loaded from the old file keeps working after the new one is
+	// renamed over it: the mapping holds the old inode.
+	auto oldModel = loadModelFile(file);
+	ASSERT_TRUE(oldModel.ok());
+	forest_ = test::makeForest(2, 5, 7);
+	save(TemplateEncoding::kUint8);
+	auto newModel = loadModelFile(file);
+	ASSERT_TRUE(newModel.ok()) << newModel.error().message;
+	EXPECT_EQ((*newModel)->forest().trees.size(), 2u);
+	EXPECT_EQ((*oldModel)->forest().trees.size(), 3u);
+	EXPECT_EQ((*oldModel)->forest().encoding, TemplateEncoding::kFloat32);
+	expectRoundTrip(forest_, TemplateEncoding::kUint8, **newModel, params_, mesh_);
+}
+
+} // namespace
+} // namespace ihf

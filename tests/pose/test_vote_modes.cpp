@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/geometry/rotation.h"
+#include "core/pose/vote_modes.h"
+
+namespace ihf {
+namespace {
+
+TEST(VoteModes, FindsTheClusterAmongOutliers)
+{
+	std::mt19937_64 rng(1);
+	std::normal_distribution<float> n(0, 1);
+	std::uniform_real_distribution<float> u(-200, 200);
+	const Eigen::Vector3f centre(30, -20, 800);
+	const Eigen::Quaternionf rot(Eigen::AngleAxisf(0.7f, Eigen::Vector3f(1, 2, 3).normalized()));
+	std::vector<CastVote> votes;
+	for (int i = 0; i < 400; ++i) {
+		Eigen::Quaternionf noise(Eigen::AngleAxisf(0.08f * n(rng),
+							   Eigen::Vector3f(n(rng), n(rng), n(rng)).normalized()));
+		Eigen::Quaternionf q = rot * noise;
+		if (i & 1)
+			q.coeffs() = -q.coeffs(); // the double cover must not matter
+		votes.push_back({centre + 4.0f * Eigen::Vector3f(n(rng), n(rng), n(rng)), q, 1.0f});
+	}
+	for (int i = 0; i < 1200; ++i) {
+		Eigen::Quaternionf q = Eigen::Quaternionf::UnitRandom();
+		votes.push_back({Eigen::Vector3f(u(rng), u(rng), 800 + u(rng)), q, 1.0f});
+	}
+	std::shuffle(votes.begin(), votes.end(), rng);
+
+	std::vector<float> scratch(votes.size());
+	std::vector<Eigen::Vector3f> seeds(64);
+	std::vector<PoseMode> modes(4);
+	VoteModeConfig cfg;
+	size_t found = findPoseModes(votes, cfg, {scratch, seeds}, modes);
+	ASSERT_GE(found, 1u);
+	EXPECT_LT((modes[0].centre - centre).norm(), 2.0f);
+	EXPECT_LT(quatAngle(modes[0].rotation, rot), 0.05f);
+	for (size_t m = 1; m < found; ++m)
+		EXPECT_LE(modes[m].translationDensity, modes[0].translationDensity);
+}
+
+TEST(VoteModes, EmptyAndZeroWeightGiveNoMode)
+{
+	std::vector<CastVote> votes(10, CastVote{Eigen::Vector3f::Zero(), Eigen::Quaternionf::Identity(), 0});
+	std::vector<float> scratch(votes.size());
+	std::vector<Eigen::Vector3f> seeds(8);
+	std::vector<PoseMode> modes(2);
+	EXPECT_EQ(findPoseModes(votes, {}, {scratch, seeds}, modes), 0u);
+	EXPECT_EQ(findPoseModes({}, {}, {scratch, seeds}, modes), 0u);
+}
+
+TEST(VoteModes, QuaternionAverageIsSignInvariant)
+{
+	Eigen::Quaternionf a(Eigen::AngleAxisf(0.3f, Eigen::Vector3f::UnitX()));
+	Eigen::Quaternionf b(Eigen::AngleAxisf(0.5f, Eigen::Vector3f::UnitX()));
+	Eigen::Quaternionf nb;
+	nb.coeffs() = -b.coeffs();
+	std::vector<Eigen::Quaternionf> qs{a, nb};
+	std::vector<float> w{1, 1};
+	Eigen::Quaternionf m = averageQuaternion(qs, w);
+	EXPECT_LT(quatAngle(m, Eigen::Quaternionf(Eigen::AngleAxisf(0.4f, Eigen::Vector3f::UnitX()))), 1e-3f);
+}
+
+} // namespace
+} // namespace ihf
