@@ -196,6 +196,7 @@ void BM_Fit(benchmark::State &state)
 	state.counters["dist_mm"] = q.rmsDistance * mm;
 	state.counters["sign2mm"] = q2.signCorrect;
 	state.counters["active"] = stats.activeCount;
+	state.counters["reservedMB"] = fitter.reservedBytes() / 1e6;
 	state.counters["iters"] = stats.iterations;
 	state.SetLabel(v.name + "/" + kVariantNames[state.range(1)] + "/N" + std::to_string(cfg.n));
 }
@@ -258,8 +259,12 @@ void BM_ExtractParts(benchmark::State &state)
 		}
 		count = *n;
 	}
-	for (int i = 0; i < count; ++i)
-		cpTotal += parts[i].cpTotal;
+	// Outside the timing: how many control points the regions hold before
+	// the cap (the timed scan stops at the cap).
+	cfg.countAllControlPoints = true;
+	if (ex.extractAll(cfg, HocpConfig{}, parts, pool))
+		for (int i = 0; i < count; ++i)
+			cpTotal += parts[i].cpTotal;
 	state.counters["parts"] = count;
 	state.counters["cpBeforeCap"] = count ? cpTotal / count : 0;
 	// Seconds per part (shown with an SI prefix, u = microseconds).
@@ -357,7 +362,17 @@ void BM_CapError(benchmark::State &state)
 		}
 		err /= full.parts.size();
 	}
+	// For scale: the mean squared distance between the uncapped histograms
+	// of successive parts (neighbours on the centre grid).
+	double neighbour = 0;
+	for (size_t i = 1; i < full.parts.size(); ++i) {
+		const Part &p = full.parts[i - 1], &q = full.parts[i];
+		computeHocp(std::span<const PartCp>(full.pool.data() + p.cpOffset, p.cpCount), cfg, a);
+		computeHocp(std::span<const PartCp>(full.pool.data() + q.cpOffset, q.cpCount), cfg, b);
+		neighbour += hocpDistanceSquared(a, b);
+	}
 	state.counters["hocpErr"] = err;
+	state.counters["neighbourDist"] = neighbour / std::max<size_t>(full.parts.size() - 1, 1);
 	state.SetLabel(std::string(state.range(0) ? "largest-weight" : "uniform") + "/cap" +
 		       std::to_string(cap));
 }

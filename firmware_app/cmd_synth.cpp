@@ -23,7 +23,7 @@ struct SynthOptions {
 	std::string distance = "700:800";
 	std::string occlusion = "0:0.6";
 	std::string elevation = "15:75";
-	std::string clutter = "3:8";
+	std::string clutter = "4:10";
 	double wall = 0.4;
 	std::string camera;
 	std::string sensor = "kinect";

@@ -9,7 +9,8 @@
 //
 // ADI (the "ADD-S" closest-point distance) is used for symmetric objects,
 // where a pose equal to the truth up to a symmetry must score zero. Units are
-// those of the points (millimetres for BOP models).
+// those of the points (millimetres for BOP models). How errors become scores
+// (matching, F1 over z, recall) is set out in evaluation.h.
 
 #include <memory>
 #include <optional>
@@ -60,8 +61,7 @@ private:
 double adiError(const Pose &est, const Pose &gt, std::span<const Eigen::Vector3f> points);
 
 // The error function of one object: its model points and which metric its
-// symmetry calls for.
-// The KD tree is only built for ADI.
+// symmetry calls for (the KD tree is only built for ADI).
 class ObjectPoseError
 {
 public:

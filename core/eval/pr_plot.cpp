@@ -124,8 +124,10 @@ void drawPanel(cairo_t *cr, const EvalReport &report, size_t zi, double x0, doub
 
 	cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
 	cairo_set_font_size(cr, 16);
-	textAt(cr, fmt("z = %.2f", report.zValues[zi]) + " (correct: error <= z * diameter)",
-	       x0 + s / 2, y0 - 30, 0.5, 0);
+	std::string title = fmt("z = %.2f", report.zValues[zi]);
+	if (zi < report.meanF1PerZ.size())
+		title += fmt(",  mean F1 %.3f", report.meanF1PerZ[zi]);
+	textAt(cr, title, x0 + s / 2, y0 - 30, 0.5, 0);
 	cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
 
 	// Curves, clipped to the axes (with room for markers on the border).
@@ -178,6 +180,10 @@ void drawLegend(cairo_t *cr, const EvalReport &report, double x0, double y0)
 	char buf[96];
 	std::snprintf(buf, sizeof(buf), "mean over objects: %.3f", report.meanF1);
 	textAt(cr, buf, x0, y + 10, 0, 0);
+	cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+	cairo_set_font_size(cr, 12);
+	textAt(cr, "correct: error <= z * diameter", x0, y + 36, 0, 0);
+	textAt(cr, "mean F1: average over z = 0.05..0.15", x0, y + 54, 0, 0);
 }
 
 } // namespace
@@ -194,7 +200,7 @@ Expected<RgbImage> renderPrPlot(const EvalReport &report)
 		return makeError(Errc::kInvalidArgument,
 				 "PR plot: the report has none of z = 0.05, 0.10, 0.15");
 
-	const double legendHeight = 70 + 24.0 * static_cast<double>(report.objects.size());
+	const double legendHeight = 110 + 24.0 * static_cast<double>(report.objects.size());
 	RgbImage image;
 	image.width = static_cast<int>(kMarginLeft +
 				       panels.size() * (kPanelSize + kPanelGap) + kLegendWidth);

@@ -34,6 +34,8 @@ struct PartConfig {
 	int maxControlPoints = 256;     // per part, after the depth limit
 	PartCap cap = PartCap::kUniform;
 	int minDataPoints = 16;         // extractAll() skips sparser parts
+	bool countAllControlPoints = false; // scan the whole region to fill
+					    //   Part::cpTotal even past the cap
 };
 
 // One control point of a part. rel = node position - part centre (unit
@@ -56,7 +58,9 @@ struct Part {
 	float zMin = 0, zMax = 0;         // depth range of the part's data points
 					  //   relative to the centre, unit cube
 	int32_t dataPoints = 0;           // cloud points inside the region
-	int32_t cpTotal = 0;              // control points before the cap
+	int32_t cpTotal = 0;              // control points in the region; once the
+					  //   cap is hit only counted on with
+					  //   countAllControlPoints (else = cpCount)
 	uint32_t cpOffset = 0;            // first control point in the pool
 	uint32_t cpCount = 0;             // control points kept
 };

@@ -10,12 +10,28 @@
 
 namespace ihf {
 
+namespace {
+
+// Integer hash (the murmur3 finaliser): a uniform key per lattice node.
+uint32_t mixIndex(int32_t index)
+{
+	uint32_t h = static_cast<uint32_t>(index);
+	h ^= h >> 16;
+	h *= 0x85ebca6bu;
+	h ^= h >> 13;
+	h *= 0xc2b2ae35u;
+	h ^= h >> 16;
+	return h;
+}
+
+} // namespace
+
 void PartExtractor::reserve(const PartLimits &limits)
 {
 	limits_ = limits;
 	pixelIndex_.assign(static_cast<size_t>(std::max(limits.maxBoxPixels, 0)), -1);
 	projected_.resize(static_cast<size_t>(std::max(limits.maxControlPoints, 0)));
-	candidates_.resize(projected_.size());
+	order_.resize(projected_.size());
 	prepared_ = false;
 }
 
@@ -56,8 +72,36 @@ Status PartExtractor::prepare(const PartSource &source)
 		else
 			projected_[i] = Eigen::Vector2f::Constant(std::numeric_limits<float>::quiet_NaN());
 	}
+	orderReady_ = false;
 	prepared_ = true;
 	return {};
+}
+
+void PartExtractor::buildOrder(PartCap mode)
+{
+	const std::span<const ControlPoint> cps = src_.cps;
+	const int32_t n = static_cast<int32_t>(cps.size());
+	if (mode == PartCap::kUniform) {
+		// Counting sort on the top bits of a hash of the lattice index;
+		// within a bucket the (index-sorted) input order is kept. The
+		// priority thus depends on the node alone.
+		std::fill(bucketStart_.begin(), bucketStart_.end(), 0);
+		for (int32_t i = 0; i < n; ++i)
+			++bucketStart_[(mixIndex(cps[i].index) >> (32 - kOrderBits)) + 1];
+		for (size_t b = 1; b < bucketStart_.size(); ++b)
+			bucketStart_[b] += bucketStart_[b - 1];
+		for (int32_t i = 0; i < n; ++i)
+			order_[bucketStart_[mixIndex(cps[i].index) >> (32 - kOrderBits)]++] = i;
+	} else {
+		for (int32_t i = 0; i < n; ++i)
+			order_[i] = i;
+		std::sort(order_.begin(), order_.begin() + n, [&](int32_t a, int32_t b) {
+			const float wa = std::abs(cps[a].weight), wb = std::abs(cps[b].weight);
+			return wa > wb || (wa == wb && a < b);
+		});
+	}
+	orderMode_ = mode;
+	orderReady_ = true;
 }
 
 int PartExtractor::centres(const PartConfig &cfg, std::span<int32_t> out) const
@@ -83,18 +127,6 @@ namespace {
 struct Window {
 	float u0, u1, v0, v1; // image pixels, inclusive bounds
 };
-
-// Integer hash (the murmur3 finaliser): a uniform key per lattice node.
-uint32_t mixIndex(int32_t index)
-{
-	uint32_t h = static_cast<uint32_t>(index);
-	h ^= h >> 16;
-	h *= 0x85ebca6bu;
-	h ^= h >> 13;
-	h *= 0xc2b2ae35u;
-	h ^= h >> 16;
-	return h;
-}
 
 Window fixedWindow(int u, int v, const PixelBox &box, float g)
 {
@@ -131,9 +163,13 @@ void PartExtractor::dataRange(const Part &part, const PartConfig &cfg, int32_t &
 		}
 	} else {
 		const float h = 0.5f * cfg.variableSide;
-		for (size_t i = 0; i < src_.unit.size(); ++i)
-			if (((src_.unit[i] - part.centreUnit).cwiseAbs().array() <= h).all())
+		const Eigen::Vector3f &c = part.centreUnit;
+		for (size_t i = 0; i < src_.unit.size(); ++i) {
+			const Eigen::Vector3f &p = src_.unit[i];
+			if (std::abs(p.x() - c.x()) <= h && std::abs(p.y() - c.y()) <= h &&
+			    std::abs(p.z() - c.z()) <= h)
 				take(static_cast<int32_t>(i));
+		}
 	}
 }
 
@@ -162,58 +198,42 @@ Expected<Part> PartExtractor::extract(int32_t centre, const PartConfig &cfg,
 	const float margin = cfg.depthMarginCells * src_.latticeDelta;
 	const float zA = zLo - margin, zB = zHi + margin;
 
-	// Candidates: control points in the region and the depth range.
-	int count = 0;
+	// Control points in the region and the depth range, visited in the
+	// cap's priority order so that the scan can stop at the cap.
+	if (!orderReady_ || orderMode_ != cfg.cap)
+		buildOrder(cfg.cap);
 	const std::span<const ControlPoint> cps = src_.cps;
+	const int cap = cfg.maxControlPoints;
+	int kept = 0, total = 0;
+	const auto visit = [&](auto inRegion) {
+		for (size_t k = 0; k < cps.size(); ++k) {
+			const int32_t i = order_[k];
+			const float z = cps[i].pos.z();
+			if (z < zA || z > zB || !inRegion(i))
+				continue;
+			++total;
+			if (kept < cap) {
+				out[kept++] = PartCp{cps[i].pos - c, cps[i].weight, 0.0f, 0, 0};
+				if (kept == cap && !cfg.countAllControlPoints)
+					break;
+			}
+		}
+	};
 	if (cfg.kind == PartKind::kFixed) {
 		const Window w = fixedWindow(part.u, part.v, box_, cfg.fixedFraction);
-		for (size_t i = 0; i < cps.size(); ++i) {
+		// NaN projections fail every comparison.
+		visit([&](int32_t i) {
 			const Eigen::Vector2f &px = projected_[i];
-			const float z = cps[i].pos.z();
-			// NaN projections fail every comparison.
-			if (px.x() >= w.u0 && px.x() <= w.u1 && px.y() >= w.v0 && px.y() <= w.v1 &&
-			    z >= zA && z <= zB)
-				candidates_[count++] = static_cast<int32_t>(i);
-		}
+			return px.x() >= w.u0 && px.x() <= w.u1 && px.y() >= w.v0 && px.y() <= w.v1;
+		});
 	} else {
 		const float h = 0.5f * cfg.variableSide;
-		for (size_t i = 0; i < cps.size(); ++i) {
+		visit([&](int32_t i) {
 			const Eigen::Vector3f d = cps[i].pos - c;
-			const float z = cps[i].pos.z();
-			if (std::abs(d.x()) <= h && std::abs(d.y()) <= h && std::abs(d.z()) <= h &&
-			    z >= zA && z <= zB)
-				candidates_[count++] = static_cast<int32_t>(i);
-		}
+			return std::abs(d.x()) <= h && std::abs(d.y()) <= h && std::abs(d.z()) <= h;
+		});
 	}
-	part.cpTotal = count;
-
-	const int cap = cfg.maxControlPoints;
-	int kept = count;
-	if (count > cap) {
-		if (cfg.cap == PartCap::kLargestWeight) {
-			auto first = candidates_.begin();
-			std::nth_element(first, first + cap, first + count, [&](int32_t a, int32_t b) {
-				const float wa = std::abs(cps[a].weight), wb = std::abs(cps[b].weight);
-				return wa > wb || (wa == wb && a < b);
-			});
-			std::sort(first, first + cap);
-		} else {
-			// A pseudo-random subset keyed on the lattice index alone, so
-			// that one control point more or less among the candidates
-			// (a node on the region's border) changes at most one pick.
-			auto first = candidates_.begin();
-			std::nth_element(first, first + cap, first + count, [&](int32_t a, int32_t b) {
-				const uint32_t ka = mixIndex(cps[a].index), kb = mixIndex(cps[b].index);
-				return ka < kb || (ka == kb && a < b);
-			});
-			std::sort(first, first + cap);
-		}
-		kept = cap;
-	}
-	for (int s = 0; s < kept; ++s) {
-		const ControlPoint &cp = cps[candidates_[s]];
-		out[s] = PartCp{cp.pos - c, cp.weight, 0.0f, 0, 0};
-	}
+	part.cpTotal = total;
 	setHocpKeys(out.first(kept), hocp);
 	part.cpCount = static_cast<uint32_t>(kept);
 	part.cpOffset = 0;

@@ -9,12 +9,16 @@
 //    normalised point; its control points are those inside the cube.
 // Either way the control points are limited along depth to the range of the
 // part's own data points plus a margin, then capped to a maximum count, and
-// stored relative to the centre with their HoCP keys set.
+// stored relative to the centre with their HoCP keys set. The cap visits the
+// control points in a per-frame priority order (a hash of the lattice index,
+// or |weight|) and stops once it has enough, so large parts cost about
+// cap x (all / in region) tests rather than a full scan.
 //
 // prepare() builds a pixel -> point map over the cloud's box and projects the
 // control points once per frame; scratch is sized by reserve() and nothing is
 // allocated afterwards. The spans given to prepare() must outlive extraction.
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -89,7 +93,13 @@ private:
 	bool prepared_ = false;
 	std::vector<int32_t> pixelIndex_;        // box pixel -> cloud index, -1 if none
 	std::vector<Eigen::Vector2f> projected_; // control point -> pixel (fixed parts)
-	std::vector<int32_t> candidates_;        // control points of the current part
+	void buildOrder(PartCap mode);
+
+	static constexpr int kOrderBits = 10;
+	std::vector<int32_t> order_;             // control points in cap priority order
+	std::array<int32_t, (1 << kOrderBits) + 1> bucketStart_{};
+	PartCap orderMode_ = PartCap::kUniform;
+	bool orderReady_ = false;
 };
 
 } // namespace ihf

@@ -376,17 +376,18 @@ Status Loader::readAscii()
 			if (unterminated)
 				return fail(Errc::kCorrupt, "line " + std::to_string(lineNo) + ": element '" + el.name +
 								    "': truncated data (last line has no line break)");
-			std::string where = "line " + std::to_string(lineNo) + ": element '" + el.name + "' property '";
+			// Built only on error: this loop runs once per line.
+			auto where = [&]() { return "line " + std::to_string(lineNo) + ": element '" + el.name + "' property '"; };
 			for (size_t q = 0; q < el.properties.size(); ++q) {
 				const PlyProperty &prop = el.properties[q];
 				if (!prop.isList) {
 					if (!number(prop.type, values[q]))
-						return fail(Errc::kParse, where + prop.name + "': missing or bad number");
+						return fail(Errc::kParse, where() + prop.name + "': missing or bad number");
 					continue;
 				}
 				double countValue;
 				if (!number(prop.countType, countValue) || countValue < 0)
-					return fail(Errc::kParse, where + prop.name + "': missing or bad list count");
+					return fail(Errc::kParse, where() + prop.name + "': missing or bad list count");
 				size_t count = static_cast<size_t>(countValue);
 				const bool keep = isFace && static_cast<int>(q) == propIndices_;
 				if (keep)
@@ -394,18 +395,18 @@ Status Loader::readAscii()
 				for (size_t k = 0; k < count; ++k) {
 					double item;
 					if (!number(prop.type, item))
-						return fail(Errc::kParse, where + prop.name + "': list has fewer than " +
+						return fail(Errc::kParse, where() + prop.name + "': list has fewer than " +
 										  std::to_string(count) + " items");
 					if (keep)
 						indices[k] = static_cast<int64_t>(item);
 				}
 				if (keep) {
 					if (count < 3)
-						return fail(Errc::kCorrupt, where + prop.name + "': face with " +
+						return fail(Errc::kCorrupt, where() + prop.name + "': face with " +
 										    std::to_string(count) + " indices (need at least 3)");
 					for (size_t k = 0; k < count; ++k) {
 						if (indices[k] < 0 || static_cast<uint64_t>(indices[k]) >= header_.elements[vertexElement_].count)
-							return fail(Errc::kOutOfRange, where + prop.name + "': vertex index " +
+							return fail(Errc::kOutOfRange, where() + prop.name + "': vertex index " +
 											       std::to_string(indices[k]) + " out of range [0, " +
 											       std::to_string(header_.elements[vertexElement_].count) + ")");
 					}

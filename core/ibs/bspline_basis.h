@@ -54,7 +54,9 @@ struct Lattice {
 	// one axis; u leaves [0, 1] only for x outside the unit cube.
 	void locate(float x, int &cell, float &u) const
 	{
-		const float t = x * static_cast<float>(n - 3);
+		float t = x * static_cast<float>(n - 3);
+		if (!(t > -1e6f && t < 1e6f)) // NaN or far outside: keep the cast defined
+			t = 0.0f;
 		cell = std::clamp(static_cast<int>(std::floor(t)), 0, n - 4);
 		u = t - static_cast<float>(cell);
 	}

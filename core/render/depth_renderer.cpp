@@ -30,7 +30,10 @@ constexpr int64_t kSub = int64_t{1} << kSubBits;
 constexpr double kGuard = 16384.0;
 static_assert(DepthRenderer::kMaxWindowCoord <= kGuard / 2, "guard clipping must stay outside every window");
 
-enum VertexFlag : uint32_t {
+// Marks a vertex whose snapped position is not usable (see VertexFlag).
+constexpr int32_t kNoScreen = INT32_MIN;
+
+enum VertexFlag : uint8_t {
 	kBehindNear = 1,
 	kOutsideGuard = 2,
 	kNotFinite = 4,
@@ -130,8 +133,8 @@ private:
 	DepthPlane plane_; // set by get() (and setZRange())
 };
 
-// Depth of the plane at pixel centre (x, y), rowTerm = b y + c. One place so
-// every path computes a pixel bit-identically.
+// 1/z at pixel centre (x, y) is a x + rowTerm(y). Kept in one place so every
+// path computes a pixel bit-identically.
 inline double rowTerm(const DepthPlane &p, int y)
 {
 	return p.b * y + p.c;
@@ -155,8 +158,11 @@ inline bool shade(const DepthPlane &p, int x, double rowC, float *drow, uint16_t
 }
 
 /*
- * One triangle in snapped image coordinates. setup() finds the pixel centres
- * of the window inside its bounding box and orients it; scan() walks them.
+ * One triangle in snapped image coordinates. bound() finds the pixel centres
+ * of the window inside its bounding box; then either scanSingle() tests the
+ * only one, or edges() sets up the edge functions and scan() walks them.
+ * Both apply the same rule, so which one runs (it depends on the window)
+ * never changes a pixel.
  */
 class Triangle
 {
@@ -345,6 +351,7 @@ void DepthRenderer::reserve(size_t maxVertices)
 {
 	if (maxVertices > capacity_) {
 		screen_.resize(maxVertices);
+		flags_.resize(maxVertices);
 		camera_.resize(maxVertices);
 		capacity_ = maxVertices;
 	}
@@ -399,11 +406,11 @@ Expected<RenderStats> DepthRenderer::render(const Mesh &mesh, const Pose &pose, 
 		const Eigen::Vector3d p = R * mesh.vertices[i].cast<double>() + t;
 		camera_[i] = p.cast<float>();
 		ScreenVertex &sv = screen_[i];
-		sv.sx = sv.sy = 0;
+		uint8_t flags = 0;
 		if (!std::isfinite(p.x() + p.y() + p.z())) {
-			sv.flags = kNotFinite;
+			flags = kNotFinite;
 		} else if (p.z() < nearD) {
-			sv.flags = kBehindNear;
+			flags = kBehindNear;
 		} else {
 			const double invZ = 1.0 / p.z();
 			const double u = K.fx * p.x() * invZ + K.cx;
@@ -412,11 +419,13 @@ Expected<RenderStats> DepthRenderer::render(const Mesh &mesh, const Pose &pose, 
 				const Snapped s = snap(u, v);
 				sv.sx = static_cast<int32_t>(s.x);
 				sv.sy = static_cast<int32_t>(s.y);
-				sv.flags = 0;
 			} else {
-				sv.flags = kOutsideGuard;
+				flags = kOutsideGuard;
 			}
 		}
+		if (flags)
+			sv.sx = sv.sy = kNoScreen;
+		flags_[i] = flags;
 	}
 
 	auto project = [&K](const Eigen::Vector3d &p) {
@@ -428,9 +437,7 @@ Expected<RenderStats> DepthRenderer::render(const Mesh &mesh, const Pose &pose, 
 		const ScreenVertex &a = screen_[f[0]];
 		const ScreenVertex &b = screen_[f[1]];
 		const ScreenVertex &c = screen_[f[2]];
-		const uint32_t anyFlags = a.flags | b.flags | c.flags;
-
-		if (anyFlags == 0) {
+		if (a.sx != kNoScreen && b.sx != kNoScreen && c.sx != kNoScreen) {
 			// 32-bit bounding box: snapped positions are below 2^23.
 			if (!tri.bound(std::min(a.sx, std::min(b.sx, c.sx)), std::max(a.sx, std::max(b.sx, c.sx)),
 				       std::min(a.sy, std::min(b.sy, c.sy)), std::max(a.sy, std::max(b.sy, c.sy)), target)) {
@@ -458,7 +465,8 @@ Expected<RenderStats> DepthRenderer::render(const Mesh &mesh, const Pose &pose, 
 			continue;
 		}
 
-		if ((anyFlags & kNotFinite) || (a.flags & b.flags & c.flags & kBehindNear)) {
+		const uint8_t fa = flags_[f[0]], fb = flags_[f[1]], fc = flags_[f[2]];
+		if (((fa | fb | fc) & kNotFinite) || (fa & fb & fc & kBehindNear)) {
 			++stats.trianglesCulled;
 			continue;
 		}
@@ -503,7 +511,7 @@ Expected<RenderStats> DepthRenderer::render(const Mesh &mesh, const Pose &pose, 
 		float zMin = static_cast<float>(poly[0].p.z()), zMax = zMin;
 		for (int i = 0; i < n; ++i) {
 			const ClipVertex &cv = poly[i];
-			if (cv.index >= 0 && screen_[cv.index].flags == 0)
+			if (cv.index >= 0 && screen_[cv.index].sx != kNoScreen)
 				s[i] = {screen_[cv.index].sx, screen_[cv.index].sy};
 			else
 				s[i] = project(cv.p);

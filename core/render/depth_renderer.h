@@ -26,7 +26,8 @@
 namespace ihf {
 
 // Image-space window of the target buffer: the buffer's pixel (0, 0) is image
-// pixel (x0, y0). Lets inference render only into a crop. Every pixel depends
+// pixel (x0, y0). Lets inference render only into a crop (the cost is mostly
+// per triangle, so a crop saves pixel work only). Every pixel depends
 // only on its image coordinates, so a window render equals the same region of
 // a full render bit for bit. Windows must lie within
 // [-kMaxWindowCoord, kMaxWindowCoord) in both axes.
@@ -71,13 +72,14 @@ public:
 
 private:
 	// Scratch per vertex, split so the per-triangle setup touches only the
-	// snapped image position (1/256 pixel, valid when flags is 0).
+	// 8-byte snapped image position (1/256 pixel; sx is kNoScreen when the
+	// vertex needs clipping, flags_ then says why).
 	struct ScreenVertex {
 		int32_t sx, sy;
-		uint32_t flags;
 	};
 
 	std::vector<ScreenVertex> screen_;
+	std::vector<uint8_t> flags_;
 	std::vector<Eigen::Vector3f> camera_; // camera coordinates, mm
 	size_t capacity_ = 0;
 	float near_ = 1.0f;

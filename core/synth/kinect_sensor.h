@@ -40,23 +40,23 @@ struct KinectParams {
 	double axialB = 0.0019;
 	double axialZ0 = 0.4;
 	double axialGrazing = 0.0001;
-	double noiseCorrelation = 0.6; // variance share of the correlated part
-	int noiseRadius = 2;           // px, correlation window half-size
+	double noiseCorrelation = 0.9; // variance share of the correlated part
+	int noiseRadius = 4;           // px: the matcher's ~9x9 window
 	// Lateral noise (Nguyen et al. 2012), pixels.
 	double lateralPx = 0.8;
 	double lateralGrazing = 0.035;
-	int lateralRadius = 1;
+	int lateralRadius = 2; // edges wobble over ~5 px, not per pixel
 	double fatteningPx = 1.0; // mean bleed radius of the foreground
 	// Edges and incidence.
 	double edgeJumpMm = 15.0;
 	double edgeJumpRel = 0.02;
-	double edgeDropout = 0.3;       // share of edge pixels lost
+	double edgeDropout = 0.15;      // share of edge pixels lost
 	double maxIncidenceDeg = 80.0;  // no depth beyond
 	double incidenceSoftDeg = 6.0;  // dropout ramps up over this span below
 	// Random dropouts.
-	double blobsPerImage = 12.0;
-	double blobRadiusMax = 3.5;
-	double pixelDropout = 0.002;
+	double blobsPerImage = 6.0;
+	double blobRadiusMax = 3.0;
+	double pixelDropout = 0.0003;
 	// Range (mm) and the invalid band at the left border (px).
 	double minRangeMm = 500.0;
 	double maxRangeMm = 4000.0;

@@ -20,6 +20,15 @@ int sampleRestingPose(const PlaceableModel &model, SynthRandom &rng)
 	return static_cast<int>(model.restingPoses.size()) - 1;
 }
 
+int uprightRestingPose(const PlaceableModel &model)
+{
+	int best = 0;
+	for (size_t i = 1; i < model.restingPoses.size(); ++i)
+		if (model.restingPoses[i].R(2, 2) > model.restingPoses[best].R(2, 2))
+			best = static_cast<int>(i);
+	return best;
+}
+
 PlaceableModel primitiveModel(Mesh mesh)
 {
 	PlaceableModel m;
@@ -91,9 +100,12 @@ Expected<ModelLibrary> ModelLibrary::load(const std::filesystem::path &dir,
 		PlaceableModel m;
 		m.objId = id;
 		m.diameter = mi.diameter > 0 ? mi.diameter : meshDiameter(*mesh);
-		m.restingPoses = computeRestingPoses(*mesh);
-		if (m.restingPoses.empty())
+		auto poses = computeRestingPoses(*mesh);
+		if (!poses)
+			return makeError(poses.error().code, path.string() + ": " + poses.error().message);
+		if (poses->empty())
 			return makeError(Errc::kCorrupt, path.string() + ": no resting pose found");
+		m.restingPoses = std::move(*poses);
 		m.mesh = std::make_shared<const Mesh>(std::move(*mesh));
 		lib.models_.emplace(id, std::move(m));
 	}

@@ -28,6 +28,11 @@ struct PlaceableModel {
 class SynthRandom;
 int sampleRestingPose(const PlaceableModel &model, SynthRandom &rng);
 
+// The resting pose that keeps the model's +z axis most nearly up: how a
+// person sets an object down (BOP models of household objects are modelled
+// z-up, and LINEMOD's scenes show them that way).
+int uprightRestingPose(const PlaceableModel &model);
+
 // Wraps a primitive built in its resting frame (standing on z = 0).
 PlaceableModel primitiveModel(Mesh mesh);
 

@@ -46,7 +46,7 @@ struct OcclusionGoal {
 	double goal = 0;           // sampled occlusion to reach
 	double min = 0, max = 0.6; // the range every image must meet
 	double tolerance = 0.03;
-	double truncationProbability = 0.15; // use the image border for part of it
+	double truncationProbability = 0.1; // use the image border for part of it
 };
 
 struct OcclusionOutcome {

@@ -2,12 +2,14 @@
 #include "core/synth/resting_poses.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <set>
 
 #include <Eigen/Geometry>
+
+#include "core/synth/convex_hull.h"
 
 namespace ihf {
 
@@ -64,80 +66,82 @@ std::vector<Eigen::Vector3d> fibonacciSphere(int n)
 	return dirs;
 }
 
-struct Support {
-	std::vector<Eigen::Vector3d> points; // hull vertex candidates
-	Eigen::Vector3d com;
-
-	double height(const Eigen::Vector3d &d) const
-	{
-		double best = -std::numeric_limits<double>::max();
-		for (const auto &p : points)
-			best = std::max(best, d.dot(p));
-		return best - d.dot(com);
-	}
-};
-
-// Pattern search on the sphere from d: the minimum of H is a kink (a hull
-// face normal), so gradients are useless; halve the step until ~0.01 deg.
-Eigen::Vector3d refineMinimum(const Support &s, Eigen::Vector3d d, double step)
+// Whether q lies inside the convex hull of the (coplanar) points, in the
+// plane with normal n, with at least margin to spare.
+bool insideFacet(const std::vector<Eigen::Vector3d> &pts, const Eigen::Vector3d &n,
+		 const Eigen::Vector3d &q, double margin)
 {
-	double h = s.height(d);
-	while (step > 2e-4) {
-		Eigen::Vector3d t1 = d.unitOrthogonal();
-		Eigen::Vector3d t2 = d.cross(t1);
-		bool improved = false;
-		for (int k = 0; k < 8; ++k) {
-			const double a = k * std::numbers::pi / 4.0;
-			const Eigen::Vector3d c =
-				(d + step * (std::cos(a) * t1 + std::sin(a) * t2)).normalized();
-			const double hc = s.height(c);
-			if (hc < h - 1e-9) {
-				h = hc;
-				d = c;
-				improved = true;
-				break;
-			}
-		}
-		if (!improved)
-			step *= 0.5;
+	const Eigen::Vector3d u = n.unitOrthogonal(), v = n.cross(u);
+	std::vector<Eigen::Vector2d> p2;
+	for (const auto &p : pts)
+		p2.push_back({p.dot(u), p.dot(v)});
+	// Andrew's monotone chain: the facet outline counter-clockwise.
+	std::sort(p2.begin(), p2.end(), [](const auto &a, const auto &b) {
+		return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+	});
+	auto cross = [](const Eigen::Vector2d &o, const Eigen::Vector2d &a, const Eigen::Vector2d &b) {
+		return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+	};
+	std::vector<Eigen::Vector2d> hull(2 * p2.size());
+	size_t k = 0;
+	for (size_t i = 0; i < p2.size(); ++i) {
+		while (k >= 2 && cross(hull[k - 2], hull[k - 1], p2[i]) <= 0)
+			--k;
+		hull[k++] = p2[i];
 	}
-	return d;
+	for (size_t i = p2.size() - 1, t = k + 1; i-- > 0;) {
+		while (k >= t && cross(hull[k - 2], hull[k - 1], p2[i]) <= 0)
+			--k;
+		hull[k++] = p2[i];
+	}
+	if (k < 4)
+		return false; // degenerate outline
+	hull.resize(k - 1);
+	const Eigen::Vector2d q2(q.dot(u), q.dot(v));
+	for (size_t i = 0; i < hull.size(); ++i) {
+		const Eigen::Vector2d &a = hull[i], &b = hull[(i + 1) % hull.size()];
+		const double len = (b - a).norm();
+		if (len <= 0 || cross(a, b, q2) / len < margin)
+			return false;
+	}
+	return true;
 }
 
 } // namespace
 
-std::vector<RestingPose> computeRestingPoses(const Mesh &mesh, int directions,
-					     double minProbability)
+Expected<std::vector<RestingPose>> computeRestingPoses(const Mesh &mesh, int directions,
+						       double minProbability)
 {
-	std::vector<RestingPose> poses;
-	if (mesh.vertices.empty())
-		return poses;
+	std::vector<Eigen::Vector3d> points;
+	points.reserve(mesh.vertices.size());
+	for (const auto &p : mesh.vertices)
+		points.push_back(p.cast<double>());
+	auto hull = convexHull(points);
+	if (!hull)
+		return hull.error();
+	const Eigen::Vector3d com = centreOfMass(mesh);
 
+	// Stable facets: the centre of mass projects inside (0.1 mm margin so
+	// a pose balanced on an edge does not count).
+	std::vector<const HullFacet *> stable;
+	for (const HullFacet &f : *hull)
+		if (insideFacet(f.vertices, f.normal, com, 0.1))
+			stable.push_back(&f);
+	if (stable.empty())
+		return makeError(Errc::kCorrupt, "resting poses: no stable hull facet");
+
+	// H on the lattice, over the hull vertices only.
+	std::vector<Eigen::Vector3d> hullPoints;
+	for (const HullFacet &f : *hull)
+		hullPoints.insert(hullPoints.end(), f.vertices.begin(), f.vertices.end());
 	const std::vector<Eigen::Vector3d> dirs = fibonacciSphere(directions);
-	Support support;
-	support.com = centreOfMass(mesh);
-
-	// The extreme vertex of each sampled direction: a subset of the convex
-	// hull vertices that makes the support function cheap to evaluate.
-	std::set<uint32_t> extremes;
-	for (const auto &d : dirs) {
-		uint32_t best = 0;
-		double bestDot = -std::numeric_limits<double>::max();
-		for (uint32_t i = 0; i < mesh.vertices.size(); ++i) {
-			const double v = d.dot(mesh.vertices[i].cast<double>());
-			if (v > bestDot) {
-				bestDot = v;
-				best = i;
-			}
-		}
-		extremes.insert(best);
-	}
-	for (uint32_t i : extremes)
-		support.points.push_back(mesh.vertices[i].cast<double>());
-
 	std::vector<double> height(dirs.size());
-	for (size_t i = 0; i < dirs.size(); ++i)
-		height[i] = support.height(dirs[i]);
+	for (size_t i = 0; i < dirs.size(); ++i) {
+		double best = -std::numeric_limits<double>::max();
+		for (const auto &p : hullPoints)
+			best = std::max(best, dirs[i].dot(p));
+		height[i] = best - dirs[i].dot(com);
+	}
 
 	// Neighbours on the lattice: the k nearest directions.
 	constexpr int kNeighbours = 8;
@@ -159,8 +163,9 @@ std::vector<RestingPose> computeRestingPoses(const Mesh &mesh, int directions,
 			nbr[i][k] = best[k].second;
 	}
 
-	// Steepest descent from every lattice point; count basin sizes.
-	std::vector<int> sink(dirs.size(), -1);
+	// Steepest descent from every lattice point; the basin of a lattice
+	// minimum goes to the stable facet whose normal is nearest.
+	std::vector<double> share(stable.size(), 0.0);
 	for (size_t i = 0; i < dirs.size(); ++i) {
 		int cur = static_cast<int>(i);
 		for (;;) {
@@ -172,48 +177,26 @@ std::vector<RestingPose> computeRestingPoses(const Mesh &mesh, int directions,
 				break;
 			cur = next;
 		}
-		sink[i] = cur;
-	}
-	std::vector<int> basin(dirs.size(), 0);
-	for (int s : sink)
-		++basin[s];
-
-	// Refine each lattice minimum and merge those that reach the same face.
-	struct Candidate {
-		Eigen::Vector3d d;
-		double share;
-	};
-	std::vector<Candidate> found;
-	const double spacing = std::sqrt(4.0 * std::numbers::pi / directions);
-	for (size_t i = 0; i < dirs.size(); ++i) {
-		if (basin[i] == 0)
-			continue;
-		const Eigen::Vector3d d = refineMinimum(support, dirs[i], spacing);
-		const double share = static_cast<double>(basin[i]) / directions;
-		bool merged = false;
-		for (auto &c : found) {
-			if (c.d.dot(d) > std::cos(3.0 * std::numbers::pi / 180.0)) {
-				c.share += share;
-				merged = true;
-				break;
-			}
-		}
-		if (!merged)
-			found.push_back({d, share});
+		size_t bestFacet = 0;
+		for (size_t f = 1; f < stable.size(); ++f)
+			if (stable[f]->normal.dot(dirs[cur]) > stable[bestFacet]->normal.dot(dirs[cur]))
+				bestFacet = f;
+		share[bestFacet] += 1.0 / directions;
 	}
 
 	double total = 0;
-	for (const auto &c : found)
-		if (c.share >= minProbability)
-			total += c.share;
-	for (const auto &c : found) {
-		if (c.share < minProbability || total <= 0)
+	for (double s : share)
+		if (s >= minProbability)
+			total += s;
+	std::vector<RestingPose> poses;
+	for (size_t f = 0; f < stable.size(); ++f) {
+		if (share[f] < minProbability || share[f] <= 0 || total <= 0)
 			continue;
 		RestingPose pose;
-		// Rotate the "down" direction d onto -z.
-		pose.R = Eigen::Quaterniond::FromTwoVectors(c.d, Eigen::Vector3d(0, 0, -1))
+		// Rotate the facet's outward normal onto -z (the table below).
+		pose.R = Eigen::Quaterniond::FromTwoVectors(stable[f]->normal, Eigen::Vector3d(0, 0, -1))
 				 .toRotationMatrix();
-		pose.probability = c.share / total;
+		pose.probability = share[f] / total;
 		rotatedBounds(mesh, pose.R, pose.min, pose.max);
 		poses.push_back(pose);
 	}

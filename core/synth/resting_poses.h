@@ -2,18 +2,18 @@
 #pragma once
 
 // Physically plausible resting poses of a rigid mesh on a horizontal plane.
-// A body dropped on a table rolls until its centre of mass is at a local
-// minimum of height over the orientations, i.e. a local minimum of
-// H(d) = max_v d.v - d.c over "down" directions d (support function minus the
-// centre of mass). Every such minimum is a face of the convex hull whose
-// centre-of-mass projection falls inside it. The probability of a pose is the
-// share of the sphere of directions that descends into it, as for a random
-// drop.
+// A body can rest on a facet of its convex hull when its centre of mass
+// projects inside that facet (a stable facet). A dropped body rolls until
+// its centre of mass is at a local minimum of the height
+// H(d) = max_v d.v - d.c over "down" directions d, so the probability of a
+// facet is the share of the sphere of directions whose descent on H ends
+// there (sampled on a Fibonacci lattice), as for a random drop.
 
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "core/common/expected.h"
 #include "core/geometry/mesh.h"
 
 namespace ihf {
@@ -35,8 +35,8 @@ Eigen::Vector3d centreOfMass(const Mesh &mesh);
 // Stable poses sorted by decreasing probability (they sum to 1). directions
 // is the resolution of the sphere sampling. Poses that catch fewer than
 // minProbability of the drops are discarded.
-std::vector<RestingPose> computeRestingPoses(const Mesh &mesh, int directions = 2000,
-					     double minProbability = 0.01);
+Expected<std::vector<RestingPose>> computeRestingPoses(const Mesh &mesh, int directions = 2000,
+						       double minProbability = 0.01);
 
 // Axis-aligned box of R * v over the mesh vertices.
 void rotatedBounds(const Mesh &mesh, const Eigen::Matrix3d &R, Eigen::Vector3d &min,

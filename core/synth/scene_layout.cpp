@@ -93,10 +93,14 @@ PlaceableModel randomPrimitive(SynthRandom &rng, double scale)
 {
 	const double u = rng.uniform01();
 	const double s = scale;
-	if (u < 0.4)
+	if (u < 0.3)
 		return primitiveModel(makeBox(logUniform(rng, 30 * s, 220 * s),
 					      logUniform(rng, 30 * s, 220 * s),
 					      logUniform(rng, 20 * s, 260 * s)));
+	if (u < 0.42) // books, boxes lying flat, a tray
+		return primitiveModel(makeBox(logUniform(rng, 100 * s, 320 * s),
+					      logUniform(rng, 80 * s, 250 * s),
+					      logUniform(rng, 5 * s, 45 * s)));
 	if (u < 0.7)
 		return primitiveModel(makeCylinder(logUniform(rng, 15 * s, 70 * s),
 						   logUniform(rng, 30 * s, 250 * s)));
@@ -110,9 +114,12 @@ SceneLayout LayoutSampler::sampleBase(int targetId, SynthRandom &rng) const
 {
 	const PlaceableModel &model = library_.model(targetId);
 	SceneLayout layout;
-	const int rest = sampleRestingPose(model, rng);
+	const int rest = rng.chance(params_.uprightProbability) ? uprightRestingPose(model)
+							       : sampleRestingPose(model, rng);
 	const double yaw = rng.uniform(0, 2 * kPi);
 	layout.objects.push_back(placeOnTable(model, rest, yaw, {0, 0}, SceneRole::kTarget));
+	if (rng.chance(params_.targetDropoutProbability))
+		layout.objects[0].dropout = rng.uniform(0.03, params_.targetDropoutMax);
 
 	const double distance = rng.uniform(params_.distanceMin, params_.distanceMax);
 	const double elevation = deg(rng.uniform(params_.elevationMinDeg, params_.elevationMaxDeg));
@@ -121,9 +128,12 @@ SceneLayout LayoutSampler::sampleBase(int targetId, SynthRandom &rng) const
 					   -params_.rollMaxDeg, params_.rollMaxDeg));
 	// Anywhere in the image where the object fits whole (the occlusion
 	// control may push it over the border on purpose).
+	// Where in the image: around the centre as a person framing the object
+	// would hold the camera, but not always in the middle; the whole object
+	// stays inside (the occlusion control may push it over the border).
 	const double r = 0.5 * model.diameter * K_.fx / distance;
-	const double hw = std::max(0.0, 0.5 * K_.width - 0.8 * r - 10);
-	const double hh = std::max(0.0, 0.5 * K_.height - 0.8 * r - 10);
+	const double hw = std::clamp(0.5 * K_.width - 0.8 * r - 10, 0.0, 0.3 * K_.width);
+	const double hh = std::clamp(0.5 * K_.height - 0.8 * r - 10, 0.0, 0.3 * K_.height);
 	const Eigen::Vector2d aim(0.5 * K_.width + rng.uniform(-hw, hw),
 				  0.5 * K_.height + rng.uniform(-hh, hh));
 	layout.view = lookAtTarget(layout.objects[0].modelToWorld.t, distance, elevation, azimuth,
@@ -149,9 +159,14 @@ bool LayoutSampler::fits(const SceneLayout &layout, const SceneObject &obj, int 
 	}
 	// Keep clear of the camera (the Kinect sees nothing nearer than ~0.5 m
 	// anyway, and a box in front of the lens is no test scene).
-	const Eigen::Vector3d c(obj.footprint.centre.x(), obj.footprint.centre.y(), 0.5 * obj.height);
-	const double radius = std::hypot(obj.footprint.radius(), 0.5 * obj.height);
-	return (c - layout.view.centre).norm() - radius >= params_.minCameraClearance;
+	// Distance from the camera centre to the object's box (footprint x height).
+	const Footprint &f = obj.footprint;
+	const Eigen::Vector2d d = layout.view.centre.head<2>() - f.centre;
+	const double u = std::max(std::abs(d.dot(f.axisX())) - f.halfSize.x(), 0.0);
+	const double v = std::max(std::abs(d.dot(f.axisY())) - f.halfSize.y(), 0.0);
+	const double z = layout.view.centre.z();
+	const double w = z > obj.height ? z - obj.height : (z < 0 ? -z : 0.0);
+	return std::sqrt(u * u + v * v + w * w) >= params_.minCameraClearance;
 }
 
 double LayoutSampler::clearDistance(const SceneLayout &layout, SceneObject obj,
@@ -199,7 +214,9 @@ void LayoutSampler::addClutter(SceneLayout &layout, int targetId, SynthRandom &r
 			model = library_.model(others[rng.below(others.size())]);
 		else
 			model = randomPrimitive(rng);
-		const int rest = sampleRestingPose(model, rng);
+		const int rest = model.objId > 0 && rng.chance(params_.uprightProbability)
+					 ? uprightRestingPose(model)
+					 : sampleRestingPose(model, rng);
 		SceneObject obj = placeOnTable(model, rest, rng.uniform(0, 2 * kPi), {0, 0},
 					       SceneRole::kClutter);
 		obj.dropout = rng.chance(params_.darkProbability) ? rng.uniform(0.6, 1.0) : 0.0;
@@ -226,14 +243,17 @@ void LayoutSampler::addClutter(SceneLayout &layout, int targetId, SynthRandom &r
 	// A few large items further away: shelves, boxes, a monitor's foot.
 	const int background = rng.uniformInt(params_.backgroundMin, params_.backgroundMax);
 	for (int k = 0; k < background; ++k) {
-		PlaceableModel model = primitiveModel(makeBox(logUniform(rng, 150, 500),
-							      logUniform(rng, 150, 500),
-							      logUniform(rng, 100, 500)));
+		PlaceableModel model = primitiveModel(makeBox(logUniform(rng, 150, 450),
+							      logUniform(rng, 150, 450),
+							      logUniform(rng, 80, 350)));
 		SceneObject obj = placeOnTable(model, 0, rng.uniform(0, 2 * kPi), {0, 0},
 					       SceneRole::kBackground);
 		obj.dropout = rng.chance(params_.darkProbability) ? rng.uniform(0.6, 1.0) : 0.0;
+		// Behind the target as seen from the camera (within +-70 degrees).
+		const Eigen::Vector2d away = layout.objects[0].footprint.centre - layout.view.centre.head<2>();
+		const double awayAngle = std::atan2(away.y(), away.x());
 		for (int attempt = 0; attempt < 10; ++attempt) {
-			const double a = rng.uniform(0, 2 * kPi);
+			const double a = awayAngle + rng.uniform(-1.2, 1.2);
 			const double d = rng.uniform(layout.objects[0].footprint.radius() +
 							     obj.footprint.radius() + 100,
 						     layout.objects[0].footprint.radius() +
@@ -251,16 +271,23 @@ void LayoutSampler::addClutter(SceneLayout &layout, int targetId, SynthRandom &r
 void LayoutSampler::addRoom(SceneLayout &layout, SynthRandom &rng) const
 {
 	const Eigen::Vector2d targetXy = layout.objects[0].footprint.centre;
+	Eigen::Vector2d toCam = layout.view.centre.head<2>() - targetXy;
+	const double horiz = toCam.norm();
+	toCam = horiz > 1e-9 ? Eigen::Vector2d(toCam / horiz) : Eigen::Vector2d(1, 0);
+
+	// The table roughly faces the camera (someone standing at it, or a
+	// tripod at its edge): it reaches from part of the way to the camera to
+	// some way behind the target, and sideways.
 	Footprint table;
-	table.yaw = rng.uniform(0, kPi);
-	table.halfSize = {0.5 * rng.uniform(700, 1600), 0.5 * rng.uniform(500, 1000)};
-	// Target somewhere on the table, at least 150 mm from its edges.
-	const Eigen::Vector2d offset(rng.uniform(-1, 1) * (table.halfSize.x() - 150),
-				     rng.uniform(-1, 1) * (table.halfSize.y() - 150));
-	table.centre = targetXy - offset.x() * table.axisX() - offset.y() * table.axisY();
+	table.yaw = std::atan2(toCam.y(), toCam.x()) + rng.uniform(-0.45, 0.45);
+	const double nearEdge = std::max(350.0, rng.uniform(0.8, 1.3) * horiz);
+	const double farEdge = rng.uniform(250, 900);
+	const double side = rng.uniform(450, 900);
+	const double shift = rng.uniform(-0.5, 0.5) * side;
+	Eigen::Vector2d lo(-farEdge, -side + shift), hi(nearEdge, side + shift);
+	table.centre = targetXy;
 
 	// Grow the table so that everything placed stands on it.
-	Eigen::Vector2d lo = -table.halfSize, hi = table.halfSize;
 	for (const SceneObject &o : layout.objects) {
 		if (o.role == SceneRole::kRoom)
 			continue;
@@ -288,44 +315,25 @@ void LayoutSampler::addRoom(SceneLayout &layout, SynthRandom &rng) const
 	slab.modelToWorld.t = {table.centre.x(), table.centre.y(), -0.5 - thickness};
 	layout.objects.push_back(slab);
 
-	SceneObject floor;
-	floor.role = SceneRole::kRoom;
-	floor.mesh = std::make_shared<const Mesh>(makeQuad(12000, 12000));
-	floor.modelToWorld.t = {targetXy.x(), targetXy.y(), -layout.tableHeight};
-	layout.objects.push_back(floor);
-
-	// A wall behind: at the table's far edge (a table against the wall) or,
-	// otherwise, the far wall of the room, often beyond the sensor's range.
-	Eigen::Vector2d view = (targetXy - layout.view.centre.head<2>());
-	view = view.norm() > 1e-9 ? view.normalized() : Eigen::Vector2d(1, 0);
+	// The room: a box around the table, seen from inside (floor, ceiling,
+	// four walls). The wall behind the table is right at its far edge when
+	// the table stands against it, else further off, often beyond the
+	// sensor's 4 m.
 	layout.wall = rng.chance(params_.wallProbability);
-	Eigen::Vector2d n = table.axisX();
-	double reach = table.halfSize.x();
-	for (const auto &[axis, half] : {std::pair{table.axisX(), table.halfSize.x()},
-					 std::pair{Eigen::Vector2d(-table.axisX()), table.halfSize.x()},
-					 std::pair{table.axisY(), table.halfSize.y()},
-					 std::pair{Eigen::Vector2d(-table.axisY()), table.halfSize.y()}}) {
-		if (axis.dot(view) > n.dot(view)) {
-			n = axis;
-			reach = half;
-		}
-	}
-	Eigen::Vector2d wallPoint;
-	if (layout.wall) {
-		wallPoint = table.centre + (reach + rng.uniform(0, 150)) * n;
-	} else {
-		wallPoint = table.centre + (reach + rng.uniform(400, 3000)) * n;
-	}
-	const Eigen::Vector3d n3(n.x(), n.y(), 0);
-	const Eigen::Vector3d e = n3.cross(Eigen::Vector3d::UnitZ());
-	SceneObject wall;
-	wall.role = SceneRole::kRoom;
-	wall.mesh = std::make_shared<const Mesh>(makeQuad(8000, 3000));
-	wall.modelToWorld.R.col(0) = e;
-	wall.modelToWorld.R.col(1) = Eigen::Vector3d::UnitZ();
-	wall.modelToWorld.R.col(2) = -n3;
-	wall.modelToWorld.t = {wallPoint.x(), wallPoint.y(), -layout.tableHeight + 1500};
-	layout.objects.push_back(wall);
+	const double behind = layout.wall ? rng.uniform(0, 150) : rng.uniform(300, 1800);
+	const double roomLo = table.halfSize.x() + behind; // along -x of the table
+	const double roomHi = table.halfSize.x() + rng.uniform(600, 2500);
+	const double roomSide = table.halfSize.y() + rng.uniform(500, 2500);
+	const double roomHeight = rng.uniform(2400, 3000);
+	SceneObject room;
+	room.role = SceneRole::kRoom;
+	room.mesh = std::make_shared<const Mesh>(makeBox(roomLo + roomHi, 2 * roomSide, roomHeight));
+	room.modelToWorld.R = yawMatrix(table.yaw);
+	const Eigen::Vector2d roomCentre = table.centre + 0.5 * (roomHi - roomLo) * table.axisX() +
+					   rng.uniform(-0.3, 0.3) * (roomSide - table.halfSize.y()) *
+						   table.axisY();
+	room.modelToWorld.t = {roomCentre.x(), roomCentre.y(), -layout.tableHeight};
+	layout.objects.push_back(room);
 }
 
 } // namespace ihf

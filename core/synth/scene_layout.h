@@ -59,14 +59,19 @@ struct LayoutParams {
 	double distanceMin = 700, distanceMax = 800; // camera to target origin, mm
 	double elevationMinDeg = 15, elevationMaxDeg = 75;
 	double rollSigmaDeg = 3, rollMaxDeg = 8;
-	int clutterMin = 3, clutterMax = 8;
-	double touchProbability = 0.35;  // clutter item placed touching the target
+	int clutterMin = 4, clutterMax = 10;
+	double touchProbability = 0.4;
+	// Models set down upright (as a person would) rather than dropped.
+	double uprightProbability = 0.6;  // clutter item placed touching the target
 	double meshClutterShare = 0.5;   // clutter from other models vs primitives
-	double clutterRadius = 450;      // mm around the target
+	double clutterRadius = 350;      // mm around the target
 	int backgroundMin = 0, backgroundMax = 3;
 	double wallProbability = 0.4;
 	double darkProbability = 0.12;   // dark / shiny clutter with heavy dropout
-	double minCameraClearance = 450; // mm from the camera to any object
+	// Targets with dark or shiny patches: that share loses up to targetDropoutMax.
+	double targetDropoutProbability = 0.3;
+	double targetDropoutMax = 0.3;
+	double minCameraClearance = 550; // mm camera to object: the Kinect sees nothing nearer than ~0.5 m
 };
 
 // Places model (resting pose restIndex, yaw about +z) with its footprint

@@ -31,7 +31,7 @@ Expected<SynthImage> SceneSynthesizer::synthesize(int objId, int imageId)
 						     static_cast<uint64_t>(imageId)),
 					     static_cast<uint64_t>(a));
 		SynthRandom rng(key);
-		auto img = attempt(objId, imageId, rng);
+		auto img = attempt(objId, imageId, a, rng);
 		if (img) {
 			img->attempts = a + 1;
 			return img;
@@ -46,7 +46,7 @@ Expected<SynthImage> SceneSynthesizer::synthesize(int objId, int imageId)
 				 std::to_string(params_.maxAttempts) + " attempts (" + last.message + ")");
 }
 
-Expected<SynthImage> SceneSynthesizer::attempt(int objId, int imageId, SynthRandom &rng)
+Expected<SynthImage> SceneSynthesizer::attempt(int objId, int imageId, int index, SynthRandom &rng)
 {
 	SceneLayout layout = sampler_.sampleBase(objId, rng);
 	sampler_.addClutter(layout, objId, rng);
@@ -81,11 +81,13 @@ Expected<SynthImage> SceneSynthesizer::attempt(int objId, int imageId, SynthRand
 	for (uint16_t l : label_.pixels())
 		visible += l == sceneLabel(0) ? 1 : 0;
 	const double occlusion = sil->pxCountAll > 0 ? 1.0 - static_cast<double>(visible) / sil->pxCountAll : 1.0;
+	const bool strict = index < params_.maxAttempts / 2;
 	if (visible == 0 || occlusion < params_.occlusionMin - 1e-12 ||
-	    occlusion > params_.occlusionMax + 1e-12) {
+	    occlusion > params_.occlusionMax + 1e-12 ||
+	    (strict && std::abs(occlusion - goal.goal) > params_.goalSlack)) {
 		char msg[96];
-		std::snprintf(msg, sizeof(msg), "occlusion %.3f outside [%.3f, %.3f]", occlusion,
-			      params_.occlusionMin, params_.occlusionMax);
+		std::snprintf(msg, sizeof(msg), "occlusion %.3f, goal %.3f in [%.3f, %.3f]", occlusion,
+			      goal.goal, params_.occlusionMin, params_.occlusionMax);
 		return makeError(Errc::kOutOfRange, msg);
 	}
 

@@ -29,10 +29,13 @@ struct SynthParams {
 	bool idealSensor = false; // clean depth, only rounded to depthScale
 	double occlusionMin = 0.0, occlusionMax = 0.6;
 	double occlusionTolerance = 0.03;
-	double truncationProbability = 0.15;
+	double truncationProbability = 0.1;
 	double depthScale = 1.0; // raw * depthScale = mm
 	uint64_t seed = 0;
 	int maxAttempts = 16;
+	// The first attempts must also land within this of their sampled goal,
+	// so that failed occluder searches do not pile images up at low occlusion.
+	double goalSlack = 0.08;
 	bool keepClean = false; // keep the clean render in SynthImage (tests)
 };
 
@@ -61,7 +64,7 @@ public:
 	const SynthParams &params() const { return params_; }
 
 private:
-	Expected<SynthImage> attempt(int objId, int imageId, SynthRandom &rng);
+	Expected<SynthImage> attempt(int objId, int imageId, int index, SynthRandom &rng);
 
 	const ModelLibrary &library_;
 	CameraIntrinsics K_;

@@ -201,6 +201,7 @@ TEST(Parts, CapKeepsTheRequestedControlPoints)
 
 	cfg.maxControlPoints = 200;
 	cfg.cap = PartCap::kLargestWeight;
+	cfg.countAllControlPoints = true;
 	auto big = chain.extractor.extract(centre, cfg, HocpConfig{}, capped);
 	ASSERT_TRUE(big.ok());
 	EXPECT_EQ(big->cpCount, 200u);
@@ -211,9 +212,11 @@ TEST(Parts, CapKeepsTheRequestedControlPoints)
 	EXPECT_EQ(smallest, weights[199]);
 
 	cfg.cap = PartCap::kUniform;
+	cfg.countAllControlPoints = false; // the scan stops at the cap
 	auto uni = chain.extractor.extract(centre, cfg, HocpConfig{}, capped);
 	ASSERT_TRUE(uni.ok());
 	EXPECT_EQ(uni->cpCount, 200u);
+	EXPECT_EQ(uni->cpTotal, 200);
 	// A subset of the full list, spread over it.
 	const auto fullSet = positions(std::span<const PartCp>(all.data(), full->cpCount), {0, 0, 0});
 	for (uint32_t i = 0; i < uni->cpCount; ++i) {

@@ -150,8 +150,10 @@ TEST(DepthRenderer, SphereMatchesAnalyticDepthAndSilhouette)
 			++inner;
 		}
 	}
-	EXPECT_GT(inner, 10000);
+	EXPECT_GT(inner, 4000); // the disc is ~5300 px
 	EXPECT_LT(maxErr, 0.5);
+	RecordProperty("max_depth_error_mm", std::to_string(maxErr));
+	RecordProperty("max_depth_error_facing_mm", std::to_string(maxErrFacing));
 	// Sagitta of the level-5 tessellation is ~0.01 mm.
 	EXPECT_LT(maxErrFacing, 0.05);
 }
@@ -343,7 +345,9 @@ TEST(DepthRenderer, FloorThroughNearPlaneIsClipped)
 				}
 			}
 		}
-		EXPECT_GT(covered, 100000);
+		// Rows below the far edge (v > 261): 139k px; with near = 400 only
+		// up to v = 385: 79k px.
+		EXPECT_GT(covered, nearMm < 100 ? 130000 : 75000);
 		EXPECT_GT(empty, 100000);
 	}
 }
