@@ -56,7 +56,8 @@ Pose canPose()
 	return p;
 }
 
-// Icosphere-like UV sphere is enough here: 20k faces, radius 50 mm.
+// UV sphere, 20k faces, radius 50 mm (the tests use an icosphere; for speed
+// only the face count and size matter).
 Mesh sphereMesh()
 {
 	Mesh m;

@@ -95,7 +95,7 @@ private:
 	std::vector<Eigen::Vector2f> projected_; // control point -> pixel (fixed parts)
 	void buildOrder(PartCap mode);
 
-	static constexpr int kOrderBits = 10;
+	static constexpr int kOrderBits = 12;
 	std::vector<int32_t> order_;             // control points in cap priority order
 	std::array<int32_t, (1 << kOrderBits) + 1> bucketStart_{};
 	PartCap orderMode_ = PartCap::kUniform;

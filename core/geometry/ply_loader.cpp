@@ -130,6 +130,7 @@ private:
 	}
 
 	Status parseHeader();
+	Status addVertex(const std::vector<double> &values, size_t item, int lineNo);
 	Status locateMeshProperties();
 	Status readAscii();
 	Status readBinary();
@@ -296,6 +297,27 @@ Status Loader::locateMeshProperties()
 	return {};
 }
 
+// Keeps position (and normal) of one vertex item; non-finite values are an
+// error naming the property (and the line, for ASCII: lineNo > 0).
+Status Loader::addVertex(const std::vector<double> &values, size_t item, int lineNo)
+{
+	const PlyElement &el = header_.elements[vertexElement_];
+	const int props[6] = {propX_, propY_, propZ_, propNx_, propNy_, propNz_};
+	const int used = propNx_ >= 0 ? 6 : 3;
+	float f[6];
+	for (int k = 0; k < used; ++k) {
+		f[k] = static_cast<float>(values[props[k]]);
+		if (!std::isfinite(f[k]))
+			return fail(Errc::kCorrupt, (lineNo > 0 ? "line " + std::to_string(lineNo) + ": " : std::string()) +
+							    "element 'vertex' item " + std::to_string(item) + " property '" +
+							    el.properties[props[k]].name + "': non-finite value");
+	}
+	mesh_.vertices.emplace_back(f[0], f[1], f[2]);
+	if (used == 6)
+		mesh_.normals.emplace_back(f[3], f[4], f[5]);
+	return {};
+}
+
 // Adds one polygon, fan-triangulated. Indices are range-checked later.
 template<typename Index>
 void addPolygon(Mesh &mesh, const Index *idx, size_t n)
@@ -389,6 +411,11 @@ Status Loader::readAscii()
 				if (!number(prop.countType, countValue) || countValue < 0)
 					return fail(Errc::kParse, where() + prop.name + "': missing or bad list count");
 				size_t count = static_cast<size_t>(countValue);
+				// Each item takes at least two characters: refuse absurd
+				// counts before allocating for them.
+				if (count > static_cast<size_t>(lineEnd - p) / 2 + 1)
+					return fail(Errc::kParse, where() + prop.name + "': list has fewer than " +
+									  std::to_string(count) + " items");
 				const bool keep = isFace && static_cast<int>(q) == propIndices_;
 				if (keep)
 					indices.resize(count);
@@ -418,19 +445,8 @@ Status Loader::readAscii()
 				return fail(Errc::kParse, "line " + std::to_string(lineNo) + ": element '" + el.name +
 								  "': more values than the header declares");
 			if (isVertex) {
-				Eigen::Vector3f v(values[propX_], values[propY_], values[propZ_]);
-				if (!v.allFinite())
-					return fail(Errc::kCorrupt, "line " + std::to_string(lineNo) + ": element 'vertex' item " +
-									    std::to_string(i) + ": non-finite coordinate");
-				mesh_.vertices.push_back(v);
-				if (propNx_ >= 0) {
-					Eigen::Vector3f n(values[propNx_], values[propNy_], values[propNz_]);
-					if (!n.allFinite())
-						return fail(Errc::kCorrupt, "line " + std::to_string(lineNo) +
-										    ": element 'vertex' item " + std::to_string(i) +
-										    ": non-finite normal");
-					mesh_.normals.push_back(n);
-				}
+				if (Status s = addVertex(values, i, lineNo); !s)
+					return s;
 			}
 		}
 	}
@@ -556,18 +572,8 @@ Status Loader::readBinary()
 				addPolygon(mesh_, indices.data(), count);
 			}
 			if (isVertex) {
-				Eigen::Vector3f v(values[propX_], values[propY_], values[propZ_]);
-				if (!v.allFinite())
-					return fail(Errc::kCorrupt, "element 'vertex' item " + std::to_string(i) +
-									    ": non-finite coordinate");
-				mesh_.vertices.push_back(v);
-				if (propNx_ >= 0) {
-					Eigen::Vector3f n(values[propNx_], values[propNy_], values[propNz_]);
-					if (!n.allFinite())
-						return fail(Errc::kCorrupt, "element 'vertex' item " + std::to_string(i) +
-										    ": non-finite normal");
-					mesh_.normals.push_back(n);
-				}
+				if (Status s = addVertex(values, i, 0); !s)
+					return s;
 			}
 		}
 	}

@@ -208,22 +208,30 @@ public:
 	bool single() const { return xs_ == xe_ && ys_ == ye_; }
 
 	// Same coverage rule as edges() + scan(), evaluated at the one centre
-	// directly. Returns the depth-test passes, or -1 if degenerate.
-	int scanSingle(Snapped v0, Snapped v1, Snapped v2, LazyPlane &lazy, const Target &t) const
+	// directly. Returns the depth-test passes, or -1 if degenerate. With a
+	// single centre in the box every vertex is within 2 pixels (512 units)
+	// of it, so 32-bit products are exact.
+	int scanSingle(const int32_t (&sx)[3], const int32_t (&sy)[3], LazyPlane &lazy, const Target &t) const
 	{
-		const int64_t area = (v1.x - v0.x) * (v2.y - v0.y) - (v1.y - v0.y) * (v2.x - v0.x);
-		if (area < 0)
-			std::swap(v1, v2);
-		const int64_t px = static_cast<int64_t>(xs_) * kSub;
-		const int64_t py = static_cast<int64_t>(ys_) * kSub;
-		auto inside = [px, py](Snapped a, Snapped b) {
-			const int64_t dx = b.x - a.x, dy = b.y - a.y;
-			const int64_t e = dx * (py - a.y) - dy * (px - a.x);
-			return e > 0 || (e == 0 && (dy < 0 || (dy == 0 && dx > 0)));
-		};
+		const int32_t px = xs_ * static_cast<int32_t>(kSub), py = ys_ * static_cast<int32_t>(kSub);
+		int32_t ax = sx[0] - px, ay = sy[0] - py;
+		int32_t bx = sx[1] - px, by = sy[1] - py;
+		int32_t cx = sx[2] - px, cy = sy[2] - py;
+		const int32_t area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
 		if (area == 0)
 			return -1;
-		if (!inside(v0, v1) || !inside(v1, v2) || !inside(v2, v0))
+		if (area < 0) {
+			std::swap(bx, cx);
+			std::swap(by, cy);
+		}
+		// Edge function of a->b at the centre (the origin), with the top-left
+		// rule for centres exactly on the edge.
+		auto inside = [](int32_t ax, int32_t ay, int32_t bx, int32_t by) {
+			const int32_t e = ax * by - ay * bx;
+			const int32_t dx = bx - ax, dy = by - ay;
+			return e > 0 || (e == 0 && (dy < 0 || (dy == 0 && dx > 0)));
+		};
+		if (!inside(ax, ay, bx, by) || !inside(bx, by, cx, cy) || !inside(cx, cy, ax, ay))
 			return 0;
 		const DepthPlane *plane = lazy.get();
 		if (!plane)
@@ -444,13 +452,12 @@ Expected<RenderStats> DepthRenderer::render(const Mesh &mesh, const Pose &pose, 
 				++stats.trianglesCulled;
 				continue;
 			}
-			const Snapped sa{a.sx, a.sy}, sb{b.sx, b.sy}, sc{c.sx, c.sy};
 			LazyPlane plane(camera_.data(), f.data(), K);
 			int written;
 			if (tri.single()) {
-				written = tri.scanSingle(sa, sb, sc, plane, target);
+				written = tri.scanSingle({a.sx, b.sx, c.sx}, {a.sy, b.sy, c.sy}, plane, target);
 			} else {
-				if (!tri.edges(sa, sb, sc)) {
+				if (!tri.edges({a.sx, a.sy}, {b.sx, b.sy}, {c.sx, c.sy})) {
 					++stats.trianglesCulled;
 					continue;
 				}

@@ -31,7 +31,10 @@ Expected<std::vector<HullFacet>> convexHull(const std::vector<Eigen::Vector3d> &
 	qhT *qh = &qhData;
 	qh_zero(qh, err);
 	char command[64];
-	std::snprintf(command, sizeof(command), "qhull C-%g", mergeDistance);
+	if (mergeDistance > 0)
+		std::snprintf(command, sizeof(command), "qhull C-%g", mergeDistance);
+	else
+		std::snprintf(command, sizeof(command), "qhull");
 	const int code = qh_new_qhull(qh, 3, static_cast<int>(points.size()), coords.data(), False,
 				      command, nullptr, err);
 	std::vector<HullFacet> facets;

@@ -2,8 +2,7 @@
 #pragma once
 
 // Convex hull of a point set via Qhull (libqhull_r): its facets as planes
-// with their vertices. Nearly coplanar triangles are merged into one facet,
-// so a flat base made of many small triangles is one polygon.
+// with their vertices.
 
 #include <vector>
 
@@ -19,9 +18,11 @@ struct HullFacet {
 	std::vector<Eigen::Vector3d> vertices;
 };
 
-// mergeDistance (point units) merges facets whose centrums lie within it of
-// their neighbours' planes.
+// mergeDistance > 0 (point units) also merges facets whose centrums lie
+// within it of their neighbours' planes (larger, but inexact, facets); 0
+// keeps Qhull's default of merging only what is coplanar within roundoff,
+// so every point lies on or below every facet plane.
 Expected<std::vector<HullFacet>> convexHull(const std::vector<Eigen::Vector3d> &points,
-					    double mergeDistance = 0.5);
+					    double mergeDistance = 0.0);
 
 } // namespace ihf

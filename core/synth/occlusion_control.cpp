@@ -176,7 +176,7 @@ Expected<bool> OcclusionController::addOccluder(SceneLayout &layout, OcclusionMe
 	for (int id : sampler_.library().ids())
 		if (id != target.objId)
 			others.push_back(id);
-	const bool useMesh = !others.empty() && rng.chance(0.25);
+	const bool useMesh = !others.empty() && rng.chance(0.4);
 	const double kind = rng.uniform01();
 	const double aimHeight = target.height * rng.uniform(0.3, 1.0);
 	const double widthShare = rng.uniform(0.5, 1.3);

@@ -121,11 +121,12 @@ Expected<std::vector<RestingPose>> computeRestingPoses(const Mesh &mesh, int dir
 		return hull.error();
 	const Eigen::Vector3d com = centreOfMass(mesh);
 
-	// Stable facets: the centre of mass projects inside (0.1 mm margin so
-	// a pose balanced on an edge does not count).
+	// Stable facets: the centre of mass projects inside. A scanned flat
+	// base is many nearly coplanar facets; the one under the centre of
+	// mass is the stable one.
 	std::vector<const HullFacet *> stable;
 	for (const HullFacet &f : *hull)
-		if (insideFacet(f.vertices, f.normal, com, 0.1))
+		if (insideFacet(f.vertices, f.normal, com, 0.0))
 			stable.push_back(&f);
 	if (stable.empty())
 		return makeError(Errc::kCorrupt, "resting poses: no stable hull facet");
@@ -184,6 +185,20 @@ Expected<std::vector<RestingPose>> computeRestingPoses(const Mesh &mesh, int dir
 		share[bestFacet] += 1.0 / directions;
 	}
 
+	// Facets within 2 degrees are one resting pose for the eye: pool their
+	// drops on the one that caught most.
+	for (size_t a = 0; a < stable.size(); ++a) {
+		for (size_t b = 0; b < stable.size(); ++b) {
+			if (a == b || share[a] <= 0 || share[b] <= 0 || share[b] > share[a])
+				continue;
+			if (share[b] == share[a] && b < a)
+				continue;
+			if (stable[a]->normal.dot(stable[b]->normal) > std::cos(2.0 * std::numbers::pi / 180)) {
+				share[a] += share[b];
+				share[b] = 0;
+			}
+		}
+	}
 	double total = 0;
 	for (double s : share)
 		if (s >= minProbability)

@@ -110,7 +110,7 @@ PlaceableModel randomPrimitive(SynthRandom &rng, double scale)
 	return primitiveModel(makeSphere(logUniform(rng, 15 * s, 70 * s)));
 }
 
-SceneLayout LayoutSampler::sampleBase(int targetId, SynthRandom &rng) const
+SceneLayout LayoutSampler::sampleBase(int targetId, SynthRandom &rng, double elevationCapDeg) const
 {
 	const PlaceableModel &model = library_.model(targetId);
 	SceneLayout layout;
@@ -122,7 +122,8 @@ SceneLayout LayoutSampler::sampleBase(int targetId, SynthRandom &rng) const
 		layout.objects[0].dropout = rng.uniform(0.03, params_.targetDropoutMax);
 
 	const double distance = rng.uniform(params_.distanceMin, params_.distanceMax);
-	const double elevation = deg(rng.uniform(params_.elevationMinDeg, params_.elevationMaxDeg));
+	const double elevMax = std::max(params_.elevationMinDeg, std::min(params_.elevationMaxDeg, elevationCapDeg));
+	const double elevation = deg(rng.uniform(params_.elevationMinDeg, elevMax));
 	const double azimuth = rng.uniform(0, 2 * kPi);
 	const double roll = deg(std::clamp(rng.normal() * params_.rollSigmaDeg,
 					   -params_.rollMaxDeg, params_.rollMaxDeg));
@@ -240,24 +241,35 @@ void LayoutSampler::addClutter(SceneLayout &layout, int targetId, SynthRandom &r
 		}
 	}
 
-	// A few large items further away: shelves, boxes, a monitor's foot.
+	// More items further out over the table (a cluttered desk), and large
+	// boxes behind the target: shelves, cartons, a monitor's foot.
 	const int background = rng.uniformInt(params_.backgroundMin, params_.backgroundMax);
+	const Eigen::Vector2d away = layout.objects[0].footprint.centre - layout.view.centre.head<2>();
+	const double awayAngle = std::atan2(away.y(), away.x());
 	for (int k = 0; k < background; ++k) {
-		PlaceableModel model = primitiveModel(makeBox(logUniform(rng, 150, 450),
-							      logUniform(rng, 150, 450),
-							      logUniform(rng, 80, 350)));
-		SceneObject obj = placeOnTable(model, 0, rng.uniform(0, 2 * kPi), {0, 0},
+		const double kind = rng.uniform01();
+		PlaceableModel model;
+		bool big = false;
+		if (kind < 0.25 && !others.empty()) {
+			model = library_.model(others[rng.below(others.size())]);
+		} else if (kind < 0.75) {
+			model = randomPrimitive(rng);
+		} else {
+			model = primitiveModel(makeBox(logUniform(rng, 150, 450), logUniform(rng, 150, 450),
+						       logUniform(rng, 80, 350)));
+			big = true;
+		}
+		const int rest = model.objId > 0 && rng.chance(params_.uprightProbability)
+					 ? uprightRestingPose(model)
+					 : sampleRestingPose(model, rng);
+		SceneObject obj = placeOnTable(model, rest, rng.uniform(0, 2 * kPi), {0, 0},
 					       SceneRole::kBackground);
 		obj.dropout = rng.chance(params_.darkProbability) ? rng.uniform(0.6, 1.0) : 0.0;
-		// Behind the target as seen from the camera (within +-70 degrees).
-		const Eigen::Vector2d away = layout.objects[0].footprint.centre - layout.view.centre.head<2>();
-		const double awayAngle = std::atan2(away.y(), away.x());
+		const double r0 = layout.objects[0].footprint.radius() + obj.footprint.radius();
 		for (int attempt = 0; attempt < 10; ++attempt) {
-			const double a = awayAngle + rng.uniform(-1.2, 1.2);
-			const double d = rng.uniform(layout.objects[0].footprint.radius() +
-							     obj.footprint.radius() + 100,
-						     layout.objects[0].footprint.radius() +
-							     obj.footprint.radius() + 700);
+			// Big boxes stand behind the target (within +-70 degrees).
+			const double a = big ? awayAngle + rng.uniform(-1.2, 1.2) : rng.uniform(0, 2 * kPi);
+			const double d = rng.uniform(r0 + 100, r0 + 700);
 			moveOnTable(obj, layout.objects[0].footprint.centre +
 						 d * Eigen::Vector2d(std::cos(a), std::sin(a)));
 			if (fits(layout, obj)) {

@@ -65,7 +65,7 @@ struct LayoutParams {
 	double uprightProbability = 0.6;  // clutter item placed touching the target
 	double meshClutterShare = 0.5;   // clutter from other models vs primitives
 	double clutterRadius = 350;      // mm around the target
-	int backgroundMin = 0, backgroundMax = 3;
+	int backgroundMin = 3, backgroundMax = 10; // items further out on the table
 	double wallProbability = 0.4;
 	double darkProbability = 0.12;   // dark / shiny clutter with heavy dropout
 	// Targets with dark or shiny patches: that share loses up to targetDropoutMax.
@@ -95,8 +95,9 @@ public:
 	LayoutSampler(const ModelLibrary &library, const CameraIntrinsics &K, LayoutParams params)
 		: library_(library), K_(K), params_(params) {}
 
-	// Target on the table and the camera; no clutter yet.
-	SceneLayout sampleBase(int targetId, SynthRandom &rng) const;
+	// Target on the table and the camera; no clutter yet. The camera's
+	// elevation is drawn up to min(elevationMaxDeg, elevationCapDeg).
+	SceneLayout sampleBase(int targetId, SynthRandom &rng, double elevationCapDeg = 90) const;
 
 	// Re-aims the camera (same position) so the target lands on aim.
 	void reaim(SceneLayout &layout, const Eigen::Vector2d &aim) const;

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "core/synth/scene_synthesizer.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "core/synth/gt_info_builder.h"
 #include "core/synth/projector_shadow.h"
@@ -26,12 +28,15 @@ SceneSynthesizer::SceneSynthesizer(const ModelLibrary &library, const CameraIntr
 Expected<SynthImage> SceneSynthesizer::synthesize(int objId, int imageId)
 {
 	Error last = makeError(Errc::kOutOfRange, "");
+	const uint64_t imageKey = mixSeed(mixSeed(params_.seed, static_cast<uint64_t>(objId)),
+					  static_cast<uint64_t>(imageId));
+	// The occlusion goal is the image's, kept over the attempts so that
+	// failures do not skew the achieved occlusions towards easy values.
+	SynthRandom goalRng(mixSeed(imageKey, 0x6f63636c));
+	const double goal = goalRng.uniform(params_.occlusionMin, params_.occlusionMax);
 	for (int a = 0; a < params_.maxAttempts; ++a) {
-		const uint64_t key = mixSeed(mixSeed(mixSeed(params_.seed, static_cast<uint64_t>(objId)),
-						     static_cast<uint64_t>(imageId)),
-					     static_cast<uint64_t>(a));
-		SynthRandom rng(key);
-		auto img = attempt(objId, imageId, a, rng);
+		SynthRandom rng(mixSeed(imageKey, static_cast<uint64_t>(a)));
+		auto img = attempt(objId, imageId, a, goal, rng);
 		if (img) {
 			img->attempts = a + 1;
 			return img;
@@ -46,21 +51,35 @@ Expected<SynthImage> SceneSynthesizer::synthesize(int objId, int imageId)
 				 std::to_string(params_.maxAttempts) + " attempts (" + last.message + ")");
 }
 
-Expected<SynthImage> SceneSynthesizer::attempt(int objId, int imageId, int index, SynthRandom &rng)
+Expected<SynthImage> SceneSynthesizer::attempt(int objId, int imageId, int index,
+					       double goalValue, SynthRandom &rng)
 {
-	SceneLayout layout = sampler_.sampleBase(objId, rng);
+	// Steep views cannot be occluded by things standing on the table (they
+	// would have to reach up to the camera): after a failure, lower the
+	// highest elevation step by step.
+	const LayoutParams &lp = params_.layout;
+	const double half = std::max(1, params_.maxAttempts / 2);
+	const double cap = lp.elevationMaxDeg - 0.75 * (lp.elevationMaxDeg - lp.elevationMinDeg) *
+							std::min(1.0, index / half);
+	SceneLayout layout = sampler_.sampleBase(objId, rng, cap);
 	sampler_.addClutter(layout, objId, rng);
 
 	OcclusionGoal goal;
 	goal.min = params_.occlusionMin;
 	goal.max = params_.occlusionMax;
-	goal.goal = rng.uniform(goal.min, goal.max);
+	goal.goal = goalValue;
 	goal.tolerance = params_.occlusionTolerance;
 	goal.truncationProbability = params_.truncationProbability;
 	OcclusionController controller(sampler_, renderer_);
 	auto outcome = controller.apply(layout, goal, rng);
 	if (!outcome)
 		return outcome.error();
+	// Give up early (before the costly renders) when the control missed.
+	const bool strict = index < params_.maxAttempts / 2;
+	if (outcome->occlusion < params_.occlusionMin - 0.01 ||
+	    outcome->occlusion > params_.occlusionMax + 0.01 ||
+	    (strict && std::abs(outcome->occlusion - goal.goal) > params_.goalSlack))
+		return makeError(Errc::kOutOfRange, "occlusion control missed its goal");
 	sampler_.addRoom(layout, rng);
 
 	// Camera and projector views of the whole scene.
@@ -81,7 +100,6 @@ Expected<SynthImage> SceneSynthesizer::attempt(int objId, int imageId, int index
 	for (uint16_t l : label_.pixels())
 		visible += l == sceneLabel(0) ? 1 : 0;
 	const double occlusion = sil->pxCountAll > 0 ? 1.0 - static_cast<double>(visible) / sil->pxCountAll : 1.0;
-	const bool strict = index < params_.maxAttempts / 2;
 	if (visible == 0 || occlusion < params_.occlusionMin - 1e-12 ||
 	    occlusion > params_.occlusionMax + 1e-12 ||
 	    (strict && std::abs(occlusion - goal.goal) > params_.goalSlack)) {

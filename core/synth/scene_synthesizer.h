@@ -35,7 +35,7 @@ struct SynthParams {
 	int maxAttempts = 16;
 	// The first attempts must also land within this of their sampled goal,
 	// so that failed occluder searches do not pile images up at low occlusion.
-	double goalSlack = 0.08;
+	double goalSlack = 0.05;
 	bool keepClean = false; // keep the clean render in SynthImage (tests)
 };
 
@@ -64,7 +64,8 @@ public:
 	const SynthParams &params() const { return params_; }
 
 private:
-	Expected<SynthImage> attempt(int objId, int imageId, int index, SynthRandom &rng);
+	Expected<SynthImage> attempt(int objId, int imageId, int index, double goal,
+				     SynthRandom &rng);
 
 	const ModelLibrary &library_;
 	CameraIntrinsics K_;

@@ -138,7 +138,7 @@ Expected<SynthSummary> runSynth(const SynthConfig &config, const SynthProgress &
 	SceneSynthesizer synth(*library, K, config.params);
 	SynthSummary summary;
 	std::vector<Detection> detections;
-	std::map<std::pair<int, int>, DepthImage16> previews;
+	std::map<std::pair<int, int>, std::pair<DepthImage16, double>> previews;
 	const int total = config.images * static_cast<int>(config.objects.size());
 	int done = 0;
 	for (int objId : config.objects) {
@@ -166,7 +166,7 @@ Expected<SynthSummary> runSynth(const SynthConfig &config, const SynthProgress &
 			summary.occludersTotal += img->outcome.occluders;
 			summary.truncated += img->outcome.truncation > 0.01 ? 1 : 0;
 			if (!config.previewDir.empty() && im < config.previewCount)
-				previews[{objId, im}] = img->depth;
+				previews[{objId, im}] = {img->depth, img->gt.pose.t.z()};
 			++done;
 			if (progress)
 				progress(objId, im, done, total, *img);
@@ -199,10 +199,12 @@ Expected<SynthSummary> runSynth(const SynthConfig &config, const SynthProgress &
 
 	if (!config.previewDir.empty()) {
 		fs::create_directories(config.previewDir, ec);
-		for (const auto &[key, depth] : previews) {
+		for (const auto &[key, shot] : previews) {
 			const fs::path file = config.previewDir /
 					      ("obj_" + sixDigits(key.first) + "_" + sixDigits(key.second) + ".png");
-			st = writeDepthPicture(file, depth, camera.depthScale);
+			// Colours from 35 cm before to 65 cm behind the target.
+			st = writeDepthPicture(file, shot.first, camera.depthScale, shot.second - 350.0,
+					       shot.second + 650.0);
 			if (!st)
 				return st.error();
 		}

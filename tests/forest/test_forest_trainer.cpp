@@ -98,8 +98,9 @@ TEST(ForestTrainer, LeavesArePureWhereLabelsAreSeparable)
 	for (const auto &tree : forest.trees) {
 		EXPECT_LE(tree.depth(), cfg.maxDepth);
 		for (const auto &n : tree.nodes) {
-			if (n.isLeaf())
+			if (n.isLeaf()) {
 				EXPECT_GE(n.voteCount, 1u);
+			}
 		}
 	}
 }

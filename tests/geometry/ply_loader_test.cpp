@@ -361,14 +361,15 @@ TEST_F(PlyTest, BrokenFilesNameFileAndPlace)
 		{"shortlist.ply", header("ascii", 3, 1) + okVerts + "4 0 1 2\n", Errc::kParse, {"line 13", "fewer than 4"}},
 		{"twogon.ply", header("ascii", 3, 1) + okVerts + "2 0 1\n", Errc::kCorrupt, {"line 13", "need at least 3"}},
 		{"nan.ply", header("ascii", 3, 1) + "0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", Errc::kCorrupt,
-		 {"line 11", "non-finite"}},
+		 {"line 11", "'vertex' item 1", "'y'", "non-finite"}},
 		{"inf.ply", header("ascii", 3, 1) + "0 0 inf\n1 0 0\n0 1 0\n3 0 1 2\n", Errc::kCorrupt,
 		 {"line 10", "non-finite"}},
 		{"extra.ply", header("ascii", 3, 1) + okVerts + "3 0 1 2\n1 2 3\n", Errc::kParse, {"line 14", "after the last"}},
 		{"bintrunc.ply", binTrunc, Errc::kCorrupt, {"truncated", "'vertex' item 2", "'y'"}},
 		{"binfacetrunc.ply", binFaceTrunc, Errc::kCorrupt, {"truncated", "'face' item 0", "vertex_indices"}},
 		{"binindex.ply", binBadIndex, Errc::kOutOfRange, {"'face' item 0", "index 3"}},
-		{"binnan.ply", binNan, Errc::kCorrupt, {"'vertex' item 0", "non-finite"}},
+		{"binnan.ply", binNan, Errc::kCorrupt, {"'vertex' item 0", "'y'", "non-finite"}},
+		{"hugelist.ply", header("ascii", 3, 1) + okVerts + "250 0 1 2\n", Errc::kParse, {"line 13", "fewer than 250"}},
 		{"huge.ply", header("binary_little_endian", 2000000000, 0) + "abc", Errc::kCorrupt, {"truncated", "'vertex'"}},
 	};
 	for (const BadCase &c : cases) {

@@ -243,6 +243,71 @@ TEST(DepthRenderer, SharedEdgesCoverEachPixelOnce)
 			ASSERT_EQ(count[(y + 4) * 40 + x + 4], (x >= 0 && x < 32 && y >= 0 && y < 32) ? 1 : 0) << x << "," << y;
 }
 
+// Sub-pixel triangles (one pixel centre in their box) take a shortcut in the
+// renderer; it must apply the same rule.
+TEST(DepthRenderer, TopLeftFillRuleForSubPixelTriangles)
+{
+	const CameraIntrinsics K = unitCamera();
+	DepthRenderer r(3);
+	struct Case {
+		Eigen::Vector3f a, b, c;
+		bool covered; // pixel (0, 0), which lies on the edge a-b
+	};
+	for (const Case &t : {Case{{-0.5f, 0, 100}, {0.5f, 0, 100}, {0, 0.7f, 100}, true},   // top edge
+			      Case{{-0.5f, 0, 100}, {0.5f, 0, 100}, {0, -0.7f, 100}, false}, // bottom edge
+			      Case{{0, -0.5f, 100}, {0, 0.5f, 100}, {0.7f, 0, 100}, true},   // left edge
+			      Case{{0, -0.5f, 100}, {0, 0.5f, 100}, {-0.7f, 0, 100}, false}, // right edge
+			      Case{{-0.4f, -0.3f, 100}, {0.4f, 0.3f, 100}, {-0.4f, 0.4f, 100}, false}, // upper right
+			      Case{{-0.4f, -0.3f, 100}, {0.4f, 0.3f, 100}, {0.4f, -0.4f, 100}, true}}) { // lower left
+		for (int flip = 0; flip < 2; ++flip) {
+			Mesh m;
+			m.vertices = {t.a, t.b, t.c};
+			m.faces = {flip ? std::array<uint32_t, 3>{0, 2, 1} : std::array<uint32_t, 3>{0, 1, 2}};
+			DepthImageMm depth(4, 4);
+			auto stats = r.render(m, Pose{}, K, depth.view(), {}, 0, {-2, -2});
+			ASSERT_TRUE(stats.ok());
+			int covered = 0;
+			for (float d : depth.pixels())
+				covered += d > 0;
+			EXPECT_EQ(covered, t.covered ? 1 : 0) << t.c.transpose();
+			EXPECT_EQ(depth.at(2, 2) > 0, t.covered) << t.c.transpose();
+		}
+	}
+
+	// A grid of 1-pixel cells centred on pixel centres, split by diagonals
+	// through those centres: every pixel exactly once.
+	Mesh grid;
+	const int n = 12;
+	for (int j = 0; j <= n; ++j)
+		for (int i = 0; i <= n; ++i)
+			grid.vertices.push_back(Eigen::Vector3f(i - 0.5f, j - 0.5f, 100));
+	std::vector<std::array<uint32_t, 3>> faces;
+	for (int j = 0; j < n; ++j) {
+		for (int i = 0; i < n; ++i) {
+			uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+			if ((i + j) % 2) {
+				faces.push_back({a, b, d});
+				faces.push_back({a, d, c});
+			} else {
+				faces.push_back({a, b, c});
+				faces.push_back({b, d, c});
+			}
+		}
+	}
+	DepthRenderer gr(grid.vertices.size());
+	std::vector<int> count(16 * 16, 0);
+	for (const auto &f : faces) {
+		grid.faces = {f};
+		DepthImageMm depth(16, 16);
+		ASSERT_TRUE(gr.render(grid, Pose{}, K, depth.view(), {}, 0, {-2, -2}).ok());
+		for (int i = 0; i < 16 * 16; ++i)
+			count[i] += depth.data()[i] > 0;
+	}
+	for (int y = -2; y < 14; ++y)
+		for (int x = -2; x < 14; ++x)
+			ASSERT_EQ(count[(y + 2) * 16 + x + 2], (x >= 0 && x < n && y >= 0 && y < n) ? 1 : 0) << x << "," << y;
+}
+
 TEST(DepthRenderer, NearerSurfaceWinsWhateverTheOrder)
 {
 	const CameraIntrinsics K = lmoCamera();

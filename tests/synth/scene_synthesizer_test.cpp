@@ -83,7 +83,7 @@ TEST_F(SynthScenes, GroundTruthPoseAgreesWithTheDepth)
 			// of the scene code.
 			DepthImageMm alone(K_.width, K_.height, 0.0f);
 			ASSERT_TRUE(renderer.render(*library_->model(obj).mesh, img->gt.pose, K_, alone.view()));
-			int checked = 0, agree = 0, sensorChecked = 0, sensorAgree = 0;
+			int checked = 0, agree = 0, sensorChecked = 0, sensorAgree = 0, sensorExact = 0;
 			const KinectParams &kp = synth.params().sensor;
 			for (int y = 3; y < K_.height - 3; ++y) {
 				for (int x = 3; x < K_.width - 3; ++x) {
@@ -100,17 +100,27 @@ TEST_F(SynthScenes, GroundTruthPoseAgreesWithTheDepth)
 					const uint16_t s = img->depth.at(x, y);
 					if (!interior || s == 0)
 						continue;
+					// The model moves depth laterally by up to 2 px (jitter,
+					// fattening) and adds axial noise: some clean depth
+					// within 2 px must match within 5 sigma + a step.
 					const double z = img->cleanDepth.at(x, y);
 					const double bound = 5.0 * kinectAxialSigmaMm(kp, z, 70 * std::numbers::pi / 180) +
 							     kinectDepthStep(kp, z) + 1.0;
+					double best = 1e9;
+					for (int dy = -2; dy <= 2; ++dy)
+						for (int dx = -2; dx <= 2; ++dx)
+							best = std::min(best, std::abs(s - static_cast<double>(img->cleanDepth.at(x + dx, y + dy))));
 					++sensorChecked;
-					sensorAgree += std::abs(s - z) < bound;
+					sensorAgree += best < bound;
+					sensorExact += std::abs(s - z) < bound;
 				}
 			}
 			ASSERT_GT(checked, 200);
 			EXPECT_EQ(agree, checked);
 			ASSERT_GT(sensorChecked, 100);
 			EXPECT_GE(sensorAgree, 0.99 * sensorChecked) << obj << "/" << im;
+			// Most pixels match at their own position already.
+			EXPECT_GE(sensorExact, 0.9 * sensorChecked) << obj << "/" << im;
 			// Distance camera -> object centre within the asked range.
 			const double d = img->gt.pose.t.norm();
 			EXPECT_GE(d, synth.params().layout.distanceMin - 1e-6);

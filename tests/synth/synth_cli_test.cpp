@@ -7,6 +7,8 @@
 #include <iterator>
 #include <set>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include "core/dataset/bop_dataset.h"
@@ -41,7 +43,9 @@ protected:
 	// One small set shared by the tests (two objects, three images each).
 	static void SetUpTestSuite()
 	{
-		dir_ = new fs::path(test::freshTempDir("synth_cli"));
+		// ctest runs every case in its own process, maybe in parallel:
+		// one folder per process.
+		dir_ = new fs::path(test::freshTempDir("synth_cli_" + std::to_string(::getpid())));
 		const auto r = test::runIhf("synth --models " + models() +
 					    " --objects 1,5 --images 3 --seed 7 --occlusion 0.1:0.5 --out '" +
 					    (*dir_ / "a").string() + "'");
@@ -159,7 +163,7 @@ struct BadCase {
 
 TEST(SynthCliErrors, BadRequestsFailClearlyAndLeaveNothing)
 {
-	const fs::path dir = test::freshTempDir("synth_cli_bad");
+	const fs::path dir = test::freshTempDir("synth_cli_bad_" + std::to_string(::getpid()));
 	const fs::path out = dir / "out";
 	const std::string m = models();
 	const std::vector<BadCase> cases = {
