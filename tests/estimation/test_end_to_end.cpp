@@ -46,7 +46,7 @@ Trained trainSmall(uint64_t seed)
 	t.set.views.maxDistance = 850;
 	t.set.views.seed = seed;
 	t.set.scales = {1.0f};
-	t.set.partsPerImage = 8;
+	t.set.partsPerImage = 20;
 	t.set.seed = seed;
 	auto set = buildTrainingSet(t.mesh, kKinect, t.params, t.set);
 	EXPECT_TRUE(set.ok());
