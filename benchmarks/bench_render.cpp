@@ -23,14 +23,7 @@ namespace {
 
 CameraIntrinsics lmoCamera()
 {
-	CameraIntrinsics K;
-	K.fx = 572.4114;
-	K.fy = 573.57043;
-	K.cx = 325.2611;
-	K.cy = 242.04899;
-	K.width = 640;
-	K.height = 480;
-	return K;
+	return kinectV1Intrinsics();
 }
 
 const Mesh &canMesh()

@@ -31,12 +31,6 @@ struct TrainOptions {
 	int64_t seed = -1;
 };
 
-// The default camera: Kinect v1 as in the LM-O data (BOP camera.json).
-CameraIntrinsics defaultCamera()
-{
-	return CameraIntrinsics{572.4114, 573.57043, 325.2611, 242.04899, 640, 480};
-}
-
 int runTrain(const TrainOptions &o)
 {
 	auto settings = loadTrainConfig(o.config);
@@ -59,7 +53,7 @@ int runTrain(const TrainOptions &o)
 	if (degenerate > 0)
 		std::fprintf(stderr, "ihf train: %s: %zu degenerate faces ignored\n", o.model.c_str(), degenerate);
 
-	CameraIntrinsics K = defaultCamera();
+	CameraIntrinsics K = kinectV1Intrinsics();
 	if (!o.camera.empty()) {
 		auto cam = readBopCamera(o.camera);
 		if (!cam) {

@@ -33,4 +33,11 @@ struct CameraIntrinsics {
 	}
 };
 
+// Kinect v1 as calibrated for LINEMOD / Occluded-LINEMOD (BOP camera.json):
+// the default camera of training and synthesis.
+inline CameraIntrinsics kinectV1Intrinsics()
+{
+	return CameraIntrinsics{572.4114, 573.57043, 325.2611, 242.04899, 640, 480};
+}
+
 } // namespace ihf

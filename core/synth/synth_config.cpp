@@ -7,18 +7,6 @@
 
 namespace ihf {
 
-CameraIntrinsics kinectV1Intrinsics()
-{
-	CameraIntrinsics K;
-	K.fx = 572.4114;
-	K.fy = 573.57043;
-	K.cx = 325.2611;
-	K.cy = 242.04899;
-	K.width = 640;
-	K.height = 480;
-	return K;
-}
-
 namespace {
 
 bool parseDouble(const std::string &s, double &v)

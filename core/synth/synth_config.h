@@ -27,9 +27,6 @@ struct SynthConfig {
 	bool overwrite = false;
 };
 
-// Kinect v1 at 640x480 with the LINEMOD / Occluded-LINEMOD calibration.
-CameraIntrinsics kinectV1Intrinsics();
-
 // "a:b" with a <= b (or a single value "a" meaning a:a). flag names the
 // option in the error message.
 Expected<std::pair<double, double>> parseRange(const std::string &text, const std::string &flag);
