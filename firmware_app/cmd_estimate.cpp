@@ -99,7 +99,7 @@ int runEstimate(const EstimateOptions &o)
 	std::map<int, BopScene> scenes;
 	std::vector<ResultRow> rows;
 	std::vector<double> boxTimes;
-	int failures = 0, skipped = 0, noPose = 0, done = 0;
+	int skipped = 0, noPose = 0, done = 0;
 	for (const auto &[key, boxes] : perImage) {
 		auto [sceneId, imId] = key;
 		if (!scenes.count(sceneId)) {
@@ -168,7 +168,6 @@ int runEstimate(const EstimateOptions &o)
 			rows.push_back(r);
 		}
 	}
-	(void)failures;
 	if (auto st = writeResultsCsv(o.out, rows); !st) {
 		std::fprintf(stderr, "ihf estimate: %s\n", st.error().message.c_str());
 		return kExitFailure;

@@ -141,6 +141,18 @@ Status checkSections(const toml::table &root, const std::string &file,
 	return {};
 }
 
+// Parses a configuration file and checks its sections against `known`.
+Expected<toml::table> openConfig(const std::filesystem::path &path,
+				 std::initializer_list<const char *> known)
+{
+	auto parsed = parseFile(path);
+	if (!parsed)
+		return parsed.error();
+	if (auto st = checkSections(*parsed, path.string(), known); !st)
+		return st.error();
+	return parsed;
+}
+
 #define IHF_SECTION(reader)            \
 	do {                           \
 		(reader).finish();     \
@@ -155,13 +167,11 @@ Expected<TrainSettings> loadTrainConfig(const std::filesystem::path &path)
 	TrainSettings s;
 	if (path.empty())
 		return s;
-	auto parsed = parseFile(path);
+	auto parsed = openConfig(path, {"views", "scales", "cloud", "ibs", "parts", "hocp", "forest"});
 	if (!parsed)
 		return parsed.error();
 	const toml::table &root = *parsed;
 	const std::string file = path.string();
-	if (auto st = checkSections(root, file, {"views", "scales", "cloud", "ibs", "parts", "hocp", "forest"}); !st)
-		return st.error();
 
 	TableReader views(root["views"].as_table(), file, "views");
 	views.get("viewpoints", s.set.views.viewpoints);
@@ -252,13 +262,11 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	EstimateSettings s;
 	if (path.empty())
 		return s;
-	auto parsed = parseFile(path);
+	auto parsed = openConfig(path, {"refinement", "votes", "score", "icp", "limits"});
 	if (!parsed)
 		return parsed.error();
 	const toml::table &root = *parsed;
 	const std::string file = path.string();
-	if (auto st = checkSections(root, file, {"refinement", "votes", "score", "icp", "limits"}); !st)
-		return st.error();
 	EstimatorConfig &e = s.estimator;
 
 	TableReader ref(root["refinement"].as_table(), file, "refinement");
