@@ -29,6 +29,35 @@ struct EstimateOptions {
 	int iterations = -1;
 	bool noIcp = false;
 	bool quiet = false;
+	std::string trace;
+};
+
+// `--trace`: every scored hypothesis as a JSON line, for diagnosing which
+// stage loses a pose. Ground-truth poses of the box's object, when the
+// dataset has them, are scored the same way (stage "given").
+class TraceWriter : public EstimateObserver
+{
+public:
+	explicit TraceWriter(std::FILE *f) : f_(f) {}
+	void begin(int scene, int image, int obj) { scene_ = scene, image_ = image, obj_ = obj; }
+	void onHypothesis(const HypothesisEvent &e) override
+	{
+		const Eigen::Matrix3d &R = e.pose.R;
+		std::fprintf(f_,
+			     "{\"scene_id\":%d,\"im_id\":%d,\"obj_id\":%d,\"iteration\":%d,\"stage\":\"%s\","
+			     "\"rank\":%d,\"R\":[%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f],"
+			     "\"t\":[%.3f,%.3f,%.3f],\"score\":%.4f,\"depth_score\":%.4f,\"box\":%.4f,"
+			     "\"inliers\":%d,\"outliers\":%d,\"occluded\":%d,\"rendered\":%d,\"density\":%.4f}\n",
+			     scene_, image_, obj_, e.iteration, e.stage, e.rank, R(0, 0), R(0, 1), R(0, 2),
+			     R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), e.pose.t.x(), e.pose.t.y(),
+			     e.pose.t.z(), e.score.score, e.score.depthScore, e.score.boxFactor,
+			     e.score.inliers, e.score.outliers, e.score.occluded, e.score.rendered,
+			     e.voteDensity);
+	}
+
+private:
+	std::FILE *f_;
+	int scene_ = 0, image_ = 0, obj_ = 0;
 };
 
 double percentile(std::vector<double> v, double p)
@@ -96,6 +125,17 @@ int runEstimate(const EstimateOptions &o)
 		perImage[{d.sceneId, d.imageId}].push_back(&d);
 
 	PoseEstimator estimator(s.limits);
+	std::unique_ptr<std::FILE, int (*)(std::FILE *)> traceFile(nullptr, &std::fclose);
+	std::unique_ptr<TraceWriter> trace;
+	if (!o.trace.empty()) {
+		traceFile.reset(std::fopen(o.trace.c_str(), "w"));
+		if (!traceFile) {
+			std::fprintf(stderr, "ihf estimate: cannot write the trace %s\n", o.trace.c_str());
+			return kExitFailure;
+		}
+		trace = std::make_unique<TraceWriter>(traceFile.get());
+		estimator.setObserver(trace.get());
+	}
 	std::map<int, BopScene> scenes;
 	std::vector<ResultRow> rows;
 	std::vector<double> boxTimes;
@@ -142,6 +182,24 @@ int runEstimate(const EstimateOptions &o)
 			}
 			PixelBox box{static_cast<int>(std::floor(d->bbox[0])), static_cast<int>(std::floor(d->bbox[1])),
 				     static_cast<int>(std::ceil(d->bbox[2])), static_cast<int>(std::ceil(d->bbox[3]))};
+			if (trace) {
+				trace->begin(sceneId, imId, d->categoryId);
+				auto gtIt = scene.gt.find(imId);
+				if (gtIt != scene.gt.end())
+					for (const GtInstance &g : gtIt->second) {
+						if (g.objId != d->categoryId)
+							continue;
+						auto gs = estimator.scorePose(depth->view(), K, box, *mIt->second,
+									      s.estimator, g.pose);
+						if (gs) {
+							HypothesisEvent ev;
+							ev.stage = "given";
+							ev.pose = g.pose;
+							ev.score = *gs;
+							trace->onHypothesis(ev);
+						}
+					}
+			}
 			auto t0 = std::chrono::steady_clock::now();
 			PoseEstimate e = estimator.estimate(depth->view(), K, box, *mIt->second, s.estimator);
 			double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -197,6 +255,8 @@ void addEstimateCommand(CLI::App &root, Action &action)
 		->check(CLI::Range(0, 100));
 	cmd->add_flag("--no-icp", opts->noIcp, "Skip the final ICP polish (the paper's method alone)");
 	cmd->add_flag("--quiet", opts->quiet, "Do not report per-box failures");
+	cmd->add_option("--trace", opts->trace,
+			"Write every scored hypothesis (and the ground truth's score, if known) as JSON lines");
 	cmd->callback([opts, &action] { action = [opts] { return runEstimate(*opts); }; });
 }
 

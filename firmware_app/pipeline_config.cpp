@@ -185,6 +185,9 @@ Expected<TrainSettings> loadTrainConfig(const std::filesystem::path &path)
 	TableReader scales(root["scales"].as_table(), file, "scales");
 	scales.get("factors", s.set.scales);
 	scales.get("parts_per_image", s.set.partsPerImage);
+	scales.get("occluded_views", s.set.occludedViews);
+	scales.get("occlusion_min", s.set.occlusionMin);
+	scales.get("occlusion_max", s.set.occlusionMax);
 	IHF_SECTION(scales);
 
 	TableReader cloud(root["cloud"].as_table(), file, "cloud");
@@ -274,11 +277,15 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	ref.get("psi1", e.psi1);
 	ref.get("psi2", e.psi2);
 	ref.get("part_stride", e.partStride);
+	ref.get("depth_windows", e.depthWindows);
+	ref.get("hypothesis_cube", e.hypothesisCube);
+	ref.get("depth_window_width", e.depthWindowWidth);
 	ref.get("min_valid_pixels", e.minValidPixels);
 	IHF_SECTION(ref);
 
 	TableReader votes(root["votes"].as_table(), file, "votes");
 	votes.get("max_hypotheses", e.maxHypotheses);
+	votes.get("rotation_modes", e.rotationModes);
 	votes.get("translation_bandwidth", e.translationBandwidth);
 	votes.get("rotation_bandwidth_deg", e.rotationBandwidthDeg);
 	IHF_SECTION(votes);
@@ -286,10 +293,13 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	TableReader score(root["score"].as_table(), file, "score");
 	score.get("inlier_mm", e.score.inlierMm);
 	score.get("occluded_weight", e.score.occludedWeight);
+	score.get("box_weight", e.score.boxWeight);
+	score.get("box_min_fill", e.score.boxMinFill);
 	IHF_SECTION(score);
 
 	TableReader icp(root["icp"].as_table(), file, "icp");
 	icp.get("enabled", e.icp);
+	icp.get("candidates", e.icpCandidates);
 	icp.get("iterations", e.icpConfig.iterations);
 	icp.get("max_distance_mm", e.icpConfig.maxDistanceMm);
 	icp.get("min_distance_mm", e.icpConfig.minDistanceMm);
@@ -304,6 +314,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	lim.get("max_ibs_points", s.limits.maxIbsPoints);
 	lim.get("max_ibs_n", s.limits.maxIbsN);
 	lim.get("max_mesh_vertices", s.limits.maxMeshVertices);
+	lim.get("max_modes", s.limits.maxModes);
+	lim.get("max_candidates", s.limits.maxCandidates);
 	IHF_SECTION(lim);
 	return s;
 }

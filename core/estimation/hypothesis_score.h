@@ -11,12 +11,23 @@
 // scores well above a pose floating in front of the scene.
 
 #include "core/common/image.h"
+#include "core/geometry/camera_intrinsics.h"
+#include "core/geometry/mesh.h"
+#include "core/geometry/pose.h"
 
 namespace ihf {
 
 struct ScoreConfig {
 	float inlierMm = 10.0f;
 	float occludedWeight = 0.5f;
+	// Agreement with the given box, which is taken to enclose the whole
+	// object (an amodal detection, as LM-O's bbox_obj): the score is
+	// multiplied by (inside * fill')^boxWeight, where inside is the share of
+	// the hypothesis' projected extent inside the box and fill' =
+	// min(1, covered box share / boxMinFill). A hypothesis too near (too big
+	// for the box) or too far (too small) loses; boxWeight 0 turns it off.
+	float boxWeight = 1.0f;
+	float boxMinFill = 0.5f;
 };
 
 struct HypothesisScore {
@@ -25,12 +36,20 @@ struct HypothesisScore {
 	int inliers = 0;
 	int outliers = 0;
 	int occluded = 0;
-	float score = 0;
+	float depthScore = 0; // in / (in + out + w occ)
+	float boxFactor = 1;  // agreement with the given box
+	float score = 0;      // depthScore * boxFactor
 	float depthMin = 0; // rendered depth range (Eq. 10's gamma, beta)
 	float depthMax = 0;
 };
 
 HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const float> rendered,
 				const ScoreConfig &config);
+
+// The box factor above for a pose in the camera `window` whose image is the
+// given box (pixels [0, width) x [0, height)). The projected extent is the
+// bounding box of at most ~512 evenly strided mesh vertices.
+float boxAgreement(const Mesh &mesh, const Pose &pose, const CameraIntrinsics &window,
+		   const ScoreConfig &config);
 
 } // namespace ihf

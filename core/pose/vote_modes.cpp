@@ -86,7 +86,11 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 			ws.seeds[s++] = v.centre;
 	}
 
-	// Mean-shift each seed to its mode; merge modes that meet.
+	// Mean-shift each seed to its mode; merge modes that meet. Room is left
+	// for rotationModesPerCentre modes per translation mode.
+	const int perCentre = static_cast<int>(
+		std::min<size_t>(std::max(1, config.rotationModesPerCentre), modes.size()));
+	const size_t centreCap = modes.size() / perCentre;
 	size_t found = 0;
 	const float merge2 = config.mergeDistance * h * config.mergeDistance * h;
 	for (size_t i = 0; i < s; ++i) {
@@ -113,7 +117,7 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 		}
 		if (merged)
 			continue;
-		if (found < modes.size()) {
+		if (found < centreCap) {
 			modes[found++] = PoseMode{x, Eigen::Quaternionf::Identity(), mass, 0, 0};
 		} else {
 			// Replace the weakest mode if this one is stronger.
@@ -129,29 +133,27 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 		return a.translationDensity > b.translationDensity;
 	});
 
-	// Rotation mode among each translation mode's supporting votes.
+	// Rotation modes among each translation mode's supporting votes, written
+	// from the last mode back so a mode's slots never overwrite one not yet
+	// processed (slot m*R >= m).
 	const float rs = config.rotationBandwidth;
 	const float invR = 1.0f / (2.0f * rs * rs);
 	std::span<float> w = ws.scratch.first(votes.size());
-	for (size_t m = 0; m < found; ++m) {
-		PoseMode &mode = modes[m];
+	size_t written = 0;
+	for (size_t mm = found; mm-- > 0;) {
+		const PoseMode centre = modes[mm];
 		float support = 0;
 		for (size_t i = 0; i < votes.size(); ++i) {
-			float d2 = (votes[i].centre - mode.centre).squaredNorm();
-			w[i] = (votes[i].weight > 0 && d2 <= support2)
-				       ? votes[i].weight * std::exp(-d2 * inv2s2)
-				       : 0.0f;
-			support += votes[i].weight > 0 && d2 <= support2 ? votes[i].weight : 0.0f;
+			float d2 = (votes[i].centre - centre.centre).squaredNorm();
+			bool in = votes[i].weight > 0 && d2 <= support2;
+			w[i] = in ? votes[i].weight * std::exp(-d2 * inv2s2) : 0.0f;
+			support += in ? votes[i].weight : 0.0f;
 		}
-		mode.supportWeight = support;
-		if (support <= 0)
-			continue;
-
-		// Seeds: the few heaviest supporting votes.
-		constexpr int kRotSeeds = 6;
+		// Seeds: the heaviest supporting votes.
+		constexpr int kRotSeeds = 8;
 		size_t seedIdx[kRotSeeds];
 		int nSeeds = 0;
-		for (size_t i = 0; i < votes.size(); ++i) {
+		for (size_t i = 0; i < votes.size() && support > 0; ++i) {
 			if (w[i] <= 0)
 				continue;
 			if (nSeeds < kRotSeeds) {
@@ -165,8 +167,9 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 					seedIdx[weakest] = i;
 			}
 		}
-		float bestDensity = -1;
-		Eigen::Quaternionf bestQ = Eigen::Quaternionf::Identity();
+		Eigen::Quaternionf found_q[kRotSeeds];
+		float found_d[kRotSeeds];
+		int nFound = 0;
 		for (int sIdx = 0; sIdx < nSeeds; ++sIdx) {
 			Eigen::Quaternionf q = votes[seedIdx[sIdx]].rotation;
 			float density = 0;
@@ -188,15 +191,44 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 				if (done)
 					break;
 			}
-			if (density > bestDensity) {
-				bestDensity = density;
-				bestQ = q;
+			// Seeds converging to the same rotation are one mode.
+			int same = -1;
+			for (int j = 0; j < nFound && same < 0; ++j)
+				if (quatAngle(found_q[j], q) < rs)
+					same = j;
+			if (same < 0) {
+				found_q[nFound] = q;
+				found_d[nFound++] = density;
+			} else if (density > found_d[same]) {
+				found_q[same] = q;
+				found_d[same] = density;
 			}
 		}
-		mode.rotation = bestQ;
-		mode.rotationDensity = bestDensity;
+		// Densest first.
+		int order[kRotSeeds];
+		for (int j = 0; j < nFound; ++j)
+			order[j] = j;
+		for (int j = 1; j < nFound; ++j) // insertion sort: at most kRotSeeds
+			for (int i = j; i > 0 && found_d[order[i]] > found_d[order[i - 1]]; --i)
+				std::swap(order[i], order[i - 1]);
+		const int keep = std::max(1, std::min(perCentre, nFound));
+		for (int j = 0; j < keep; ++j) {
+			PoseMode &out = modes[mm * perCentre + j];
+			out = centre;
+			out.supportWeight = support;
+			out.rotation = nFound ? found_q[order[j]] : Eigen::Quaternionf::Identity();
+			out.rotationDensity = nFound ? found_d[order[j]] : 0.0f;
+		}
+		for (int j = keep; j < perCentre; ++j)
+			modes[mm * perCentre + j].supportWeight = -1; // empty slot
+		written = std::max(written, mm * perCentre + perCentre);
 	}
-	return found;
+	// Close the gaps left by centres with fewer rotation modes.
+	size_t count = 0;
+	for (size_t i = 0; i < written; ++i)
+		if (modes[i].supportWeight >= 0)
+			modes[count++] = modes[i];
+	return count;
 }
 
 } // namespace ihf

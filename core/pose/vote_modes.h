@@ -29,6 +29,9 @@ struct VoteModeConfig {
 	int maxSeeds = 64;
 	int maxIterations = 20;
 	float mergeDistance = 0.5f; // in translation bandwidths
+	// Distinct rotation modes kept per translation mode (a part seen from
+	// two symmetric-looking sides votes for both; the renderer decides).
+	int rotationModesPerCentre = 1;
 };
 
 struct PoseMode {
@@ -45,7 +48,8 @@ struct VoteModeWorkspace {
 	std::span<Eigen::Vector3f> seeds; // >= maxSeeds
 };
 
-// Writes up to modes.size() modes ranked by translation density; returns
+// Writes up to modes.size() modes ranked by translation density, each
+// translation mode followed by its rotation modes (densest first); returns
 // how many. Votes with weight <= 0 are ignored.
 size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &config,
 		     VoteModeWorkspace workspace, std::span<PoseMode> modes);

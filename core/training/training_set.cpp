@@ -87,14 +87,34 @@ public:
 		}
 
 		std::mt19937_64 rng(seed);
+		auto uniform01 = [&rng] { return static_cast<float>(rng() >> 40) * 0x1.0p-24f; };
 		const Eigen::Quaternionf rotation(view.pose.R.cast<float>());
 		const Eigen::Vector3f origin = view.pose.t.cast<float>();
 		std::vector<float> hist(dims);
 
+		// Frames of the whole silhouette, before any occlusion.
+		std::vector<UnitCubeFrame> frames;
 		for (float s : cfg.scales) {
 			auto frame = makeUnitCubeFrame(cloud, s);
 			if (!frame)
 				return frame.error();
+			frames.push_back(*frame);
+		}
+		if (cfg.occludedViews > 0 && uniform01() < cfg.occludedViews) {
+			const float fraction = cfg.occlusionMin + uniform01() * (cfg.occlusionMax - cfg.occlusionMin);
+			occlude(box, fraction, uniform01() * 2.0f * static_cast<float>(M_PI));
+			auto m = cloudFromDepth(depth_.view(), k_, box, params_.cloud, cloud_);
+			if (!m)
+				return m.error();
+			cloud = std::span<const CloudPoint>(cloud_.data(), *m);
+			if (cloud.size() < 32) {
+				out.skipped = true;
+				return out;
+			}
+		}
+
+		for (const UnitCubeFrame &f : frames) {
+			const UnitCubeFrame *frame = &f;
 			toUnitCube(cloud, *frame, std::span(unit_.data(), cloud.size()),
 				   std::span(normals_.data(), cloud.size()));
 			auto fit = fitter_.fit(std::span(unit_.data(), cloud.size()),
@@ -145,6 +165,28 @@ public:
 	}
 
 private:
+	// Removes the silhouette pixels beyond a line of direction `angle`
+	// placed so that about `fraction` of them go.
+	void occlude(const PixelBox &box, float fraction, float angle)
+	{
+		const float c = std::cos(angle), s = std::sin(angle);
+		std::vector<float> proj;
+		for (int y = box.y; y < box.y + box.h; ++y)
+			for (int x = box.x; x < box.x + box.w; ++x)
+				if (depth_.at(x, y) > 0)
+					proj.push_back(c * x + s * y);
+		if (proj.empty())
+			return;
+		const size_t keep = std::min(proj.size() - 1,
+					     static_cast<size_t>((1.0f - fraction) * static_cast<float>(proj.size())));
+		std::nth_element(proj.begin(), proj.begin() + keep, proj.end());
+		const float cut = proj[keep];
+		for (int y = box.y; y < box.y + box.h; ++y)
+			for (int x = box.x; x < box.x + box.w; ++x)
+				if (c * x + s * y >= cut)
+					depth_.at(x, y) = 0.0f;
+	}
+
 	const Mesh &mesh_;
 	CameraIntrinsics k_;
 	const ModelParams &params_;

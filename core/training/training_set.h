@@ -28,6 +28,15 @@ struct TrainingSetConfig {
 	ViewSamplerConfig views;
 	std::vector<float> scales{1.0f, 1.4f, 2.0f, 2.8f}; // s_i >= 1
 	int partsPerImage = 12; // part centres drawn per (view, scale)
+	// Occlusion augmentation (not in the paper, which trains on clean
+	// views): this share of the views loses the pixels beyond a random line
+	// across the silhouette, between occlusionMin and occlusionMax of them.
+	// The unit-cube frame stays that of the whole silhouette, as inference
+	// normalises with the whole hypothesis (pose_estimator.h), so an
+	// occluded part is described at the scale of the unoccluded object.
+	float occludedViews = 0.0f;
+	float occlusionMin = 0.1f;
+	float occlusionMax = 0.6f;
 	int threads = 2;
 	uint64_t seed = 1;
 };

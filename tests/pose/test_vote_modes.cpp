@@ -44,6 +44,42 @@ TEST(VoteModes, FindsTheClusterAmongOutliers)
 		EXPECT_LE(modes[m].translationDensity, modes[0].translationDensity);
 }
 
+TEST(VoteModes, KeepsTwoRotationModesPerCentre)
+{
+	// One translation cluster whose votes split 60/40 between two rotations
+	// 180 degrees apart (a part that looks alike from both sides).
+	std::mt19937_64 rng(2);
+	std::normal_distribution<float> n(0, 1);
+	const Eigen::Vector3f centre(0, 0, 900);
+	const Eigen::Quaternionf a(Eigen::AngleAxisf(0.4f, Eigen::Vector3f::UnitY()));
+	const Eigen::Quaternionf b = a * Eigen::Quaternionf(Eigen::AngleAxisf(M_PI, Eigen::Vector3f::UnitZ()));
+	std::vector<CastVote> votes;
+	for (int i = 0; i < 500; ++i) {
+		Eigen::Quaternionf noise(Eigen::AngleAxisf(0.05f * n(rng),
+							   Eigen::Vector3f(n(rng), n(rng), n(rng)).normalized()));
+		votes.push_back({centre + 3.0f * Eigen::Vector3f(n(rng), n(rng), n(rng)),
+				 (i % 5 < 3 ? a : b) * noise, 1.0f});
+	}
+	std::vector<float> scratch(votes.size());
+	std::vector<Eigen::Vector3f> seeds(64);
+	std::vector<PoseMode> modes(8);
+	VoteModeConfig cfg;
+	cfg.rotationModesPerCentre = 2;
+	size_t found = findPoseModes(votes, cfg, {scratch, seeds}, modes);
+	ASSERT_EQ(found, 2u);
+	EXPECT_LT((modes[0].centre - centre).norm(), 1.0f);
+	EXPECT_EQ(modes[0].centre, modes[1].centre);
+	EXPECT_LT(quatAngle(modes[0].rotation, a), 0.05f); // the denser first
+	EXPECT_LT(quatAngle(modes[1].rotation, b), 0.05f);
+	EXPECT_GT(modes[0].rotationDensity, modes[1].rotationDensity);
+
+	// With one rotation mode per centre only the denser one is reported.
+	cfg.rotationModesPerCentre = 1;
+	found = findPoseModes(votes, cfg, {scratch, seeds}, modes);
+	ASSERT_EQ(found, 1u);
+	EXPECT_LT(quatAngle(modes[0].rotation, a), 0.05f);
+}
+
 TEST(VoteModes, EmptyAndZeroWeightGiveNoMode)
 {
 	std::vector<CastVote> votes(10, CastVote{Eigen::Vector3f::Zero(), Eigen::Quaternionf::Identity(), 0});

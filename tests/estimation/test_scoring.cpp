@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: MIT
+// Hypothesis scoring pieces: the depth slabs of the first registration and
+// the agreement of a pose with the given box.
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/estimation/depth_windows.h"
+#include "core/estimation/hypothesis_score.h"
+#include "core/geometry/mesh.h"
+
+namespace ihf {
+namespace {
+
+TEST(DepthWindows, DensestSlabFirstThenTheNextDistinctOne)
+{
+	// 100 x 100 box: a wall at 1500 mm (20%), the object at 790..840 mm
+	// (50%), an occluder at 600 mm (30%).
+	std::vector<float> px(100 * 100);
+	ImageView<float> img(px.data(), 100, 100, 100);
+	for (int y = 0; y < 100; ++y)
+		for (int x = 0; x < 100; ++x)
+			img.at(x, y) = y < 20 ? 1500.0f : (y < 70 ? 790.0f + 50.0f * x / 99.0f : 600.0f);
+	std::vector<int> hist(1024);
+	DepthWindow w[3];
+	size_t n = findDepthWindows(img, 100.0f, hist, w);
+	ASSERT_EQ(n, 3u);
+	EXPECT_LE(w[0].nearMm, 790.0f);
+	EXPECT_GE(w[0].farMm, 840.0f);
+	EXPECT_EQ(w[0].pixels, 5000);
+	EXPECT_LE(w[1].nearMm, 600.0f); // the occluder, then the wall
+	EXPECT_GE(w[1].farMm, 600.0f);
+	EXPECT_EQ(w[1].pixels, 3000);
+	EXPECT_LE(w[2].nearMm, 1500.0f);
+	EXPECT_GE(w[2].farMm, 1500.0f);
+
+	std::fill(px.begin(), px.end(), 0.0f);
+	EXPECT_EQ(findDepthWindows(img, 100.0f, hist, w), 0u); // no depth, no window
+}
+
+Mesh unitCube(float side)
+{
+	Mesh m;
+	for (int i = 0; i < 8; ++i)
+		m.vertices.emplace_back((i & 1 ? 0.5f : -0.5f) * side, (i & 2 ? 0.5f : -0.5f) * side,
+					(i & 4 ? 0.5f : -0.5f) * side);
+	return m;
+}
+
+TEST(BoxAgreement, PenalisesPosesTooNearOrTooFarForTheBox)
+{
+	const Mesh cube = unitCube(100.0f);
+	// A window of 80 x 80 px with f = 500 centred on the axis: a 100 mm
+	// cube at 800 mm spans 62.5..66.7 px, inside and filling ~65% of it.
+	CameraIntrinsics K{500, 500, 39.5, 39.5, 80, 80};
+	ScoreConfig cfg;
+	Pose p;
+	p.t = Eigen::Vector3d(0, 0, 800);
+	EXPECT_NEAR(boxAgreement(cube, p, K, cfg), 1.0f, 1e-6f);
+	p.t.z() = 500; // too near: 100..111 px, sticks out
+	float nearF = boxAgreement(cube, p, K, cfg);
+	EXPECT_LT(nearF, 0.7f);
+	p.t.z() = 2000; // too far: 25 px, covers ~10% of the box
+	float farF = boxAgreement(cube, p, K, cfg);
+	EXPECT_LT(farF, 0.3f);
+	p.t = Eigen::Vector3d(60, 0, 800); // shifted half out of the box
+	EXPECT_LT(boxAgreement(cube, p, K, cfg), 0.7f);
+	p.t = Eigen::Vector3d(0, 0, -800); // behind the camera
+	EXPECT_EQ(boxAgreement(cube, p, K, cfg), 0.0f);
+	cfg.boxWeight = 0; // off
+	p.t = Eigen::Vector3d(0, 0, 500);
+	EXPECT_EQ(boxAgreement(cube, p, K, cfg), 1.0f);
+}
+
+TEST(HypothesisScore, CountsInliersOutliersAndOcclusion)
+{
+	std::vector<float> obs(4, 0.0f), ren(4, 0.0f);
+	ImageView<float> o(obs.data(), 4, 1, 4), r(ren.data(), 4, 1, 4);
+	r.at(0, 0) = 800; o.at(0, 0) = 805; // inlier
+	r.at(1, 0) = 800; o.at(1, 0) = 900; // observed behind: outlier
+	r.at(2, 0) = 800; o.at(2, 0) = 600; // observed in front: occluded
+	r.at(3, 0) = 810;                   // no observation
+	HypothesisScore s = scoreHypothesis(o, r, ScoreConfig{});
+	EXPECT_EQ(s.rendered, 4);
+	EXPECT_EQ(s.compared, 3);
+	EXPECT_EQ(s.inliers, 1);
+	EXPECT_EQ(s.outliers, 1);
+	EXPECT_EQ(s.occluded, 1);
+	EXPECT_FLOAT_EQ(s.depthScore, 1.0f / 2.5f);
+	EXPECT_FLOAT_EQ(s.depthMin, 800.0f);
+	EXPECT_FLOAT_EQ(s.depthMax, 810.0f);
+}
+
+} // namespace
+} // namespace ihf
