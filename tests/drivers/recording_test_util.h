@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "core/common/image.h"
@@ -84,6 +85,22 @@ inline void writeBytes(const std::filesystem::path &file, const std::vector<uint
 {
 	std::ofstream out(file, std::ios::binary | std::ios::trunc);
 	out.write(reinterpret_cast<const char *>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+// "" when equal, else where and how the first difference is.
+inline std::string depthDifference(ImageView<const uint16_t> a, const DepthImage16 &b)
+{
+	if (a.width != b.width() || a.height != b.height())
+		return "size " + std::to_string(a.width) + "x" + std::to_string(a.height) + " vs " +
+		       std::to_string(b.width()) + "x" + std::to_string(b.height());
+	int count = 0;
+	std::string first;
+	for (int y = 0; y < a.height; ++y)
+		for (int x = 0; x < a.width; ++x)
+			if (a.at(x, y) != b.at(x, y) && count++ == 0)
+				first = "(" + std::to_string(x) + ", " + std::to_string(y) + "): " +
+					std::to_string(a.at(x, y)) + " vs " + std::to_string(b.at(x, y));
+	return count ? std::to_string(count) + " pixels differ, first at " + first : "";
 }
 
 inline bool sameDepth(ImageView<const uint16_t> a, const DepthImage16 &b)
