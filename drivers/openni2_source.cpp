@@ -22,9 +22,17 @@ namespace {
 std::string oniError(const char *what)
 {
 	std::string s = what;
-	const char *ext = openni::OpenNI::getExtendedError();
-	if (ext && *ext)
-		s += std::string(": ") + ext;
+	// OpenNI2's extended error is tab-indented and newline-terminated.
+	std::string ext = openni::OpenNI::getExtendedError() ? openni::OpenNI::getExtendedError() : "";
+	const size_t b = ext.find_first_not_of(" \t\r\n");
+	const size_t e = ext.find_last_not_of(" \t\r\n");
+	if (b != std::string::npos) {
+		ext = ext.substr(b, e - b + 1);
+		for (char &c : ext)
+			if (c == '\n' || c == '\t')
+				c = ' ';
+		s += ": " + ext;
+	}
 	return s;
 }
 

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <dlfcn.h>
 
@@ -64,7 +65,9 @@ protected:
 		const std::string env = fs::weakly_canonical(IHF_OPENNI2_ENV).string();
 		ASSERT_EQ(loaded.rfind(env, 0), 0u)
 			<< "libOpenNI2 came from " << loaded << ", not from " << env;
-		dir_ = freshTempDir("openni2_roundtrip");
+		// One folder per test: ctest may run them in parallel.
+		dir_ = freshTempDir(std::string("openni2_") +
+				    ::testing::UnitTest::GetInstance()->current_test_info()->name());
 		rec_ = dir_ / "source.rec";
 		stream_ = roundTripStream();
 		recording::RecordingHeader h = testHeader(kW, kH);
@@ -130,8 +133,12 @@ int recordOnce(const fs::path &rec, const fs::path &oni, uint64_t lastIndex)
 void recordToOni(const fs::path &rec, const fs::path &oni, const TestStream &s)
 {
 	int frames = -1;
-	for (int attempt = 0; attempt < 3 && frames != static_cast<int>(s.frames.size()); ++attempt)
+	for (int attempt = 0; attempt < 3 && frames != static_cast<int>(s.frames.size()); ++attempt) {
+		if (attempt > 0)
+			std::fprintf(stderr, "note: .oni had %d of %zu frames, recording again\n", frames,
+				     s.frames.size());
 		frames = recordOnce(rec, oni, s.indices.back());
+	}
 	ASSERT_EQ(frames, static_cast<int>(s.frames.size()));
 }
 
