@@ -53,6 +53,10 @@ struct SourceCounters {
 class FrameSource
 {
 public:
+	// Sources own buffers and device handles the frames point into: they
+	// stay where they were made (hold them by unique_ptr to pass them on).
+	FrameSource(const FrameSource &) = delete;
+	FrameSource &operator=(const FrameSource &) = delete;
 	virtual ~FrameSource() = default;
 
 	virtual Status open() = 0;
@@ -63,6 +67,9 @@ public:
 	virtual Expected<FrameOutcome> next(Frame &frame, std::chrono::nanoseconds timeout) = 0;
 	virtual void stop() = 0;
 	virtual SourceCounters counters() const = 0;
+
+protected:
+	FrameSource() = default;
 };
 
 } // namespace ihf

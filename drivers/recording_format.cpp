@@ -183,4 +183,70 @@ uint32_t frameCrc(const uint8_t *recordHeader, std::span<const uint8_t> payload)
 	return crc32Of(payload, crc32Of(std::span(recordHeader, kFrameCrcOffset)));
 }
 
+struct ZlibStreams {
+	z_stream stream{};
+	bool deflating = false;
+};
+
+void ZlibStreamsDeleter::operator()(ZlibStreams *z) const
+{
+	if (z->deflating)
+		deflateEnd(&z->stream);
+	else
+		inflateEnd(&z->stream);
+	delete z;
+}
+
+ZlibStreamsPtr makeInflater()
+{
+	ZlibStreamsPtr z(new ZlibStreams);
+	if (inflateInit(&z->stream) != Z_OK) {
+		delete z.release(); // nothing to end
+		return nullptr;
+	}
+	return z;
+}
+
+ZlibStreamsPtr makeDeflater(int level)
+{
+	ZlibStreamsPtr z(new ZlibStreams);
+	z->deflating = true;
+	if (deflateInit(&z->stream, level) != Z_OK) {
+		delete z.release();
+		return nullptr;
+	}
+	return z;
+}
+
+size_t deflatedBound(ZlibStreams &z, size_t rawBytes)
+{
+	return deflateBound(&z.stream, static_cast<uLong>(rawBytes));
+}
+
+bool deflateFrame(ZlibStreams &z, std::span<const uint8_t> in, std::span<uint8_t> out,
+		  size_t *outSize)
+{
+	if (deflateReset(&z.stream) != Z_OK)
+		return false;
+	z.stream.next_in = const_cast<Bytef *>(in.data());
+	z.stream.avail_in = static_cast<uInt>(in.size());
+	z.stream.next_out = out.data();
+	z.stream.avail_out = static_cast<uInt>(out.size());
+	if (deflate(&z.stream, Z_FINISH) != Z_STREAM_END)
+		return false;
+	*outSize = out.size() - z.stream.avail_out;
+	return true;
+}
+
+bool inflateFrame(ZlibStreams &z, std::span<const uint8_t> in, std::span<uint8_t> out)
+{
+	if (inflateReset(&z.stream) != Z_OK)
+		return false;
+	z.stream.next_in = const_cast<Bytef *>(in.data());
+	z.stream.avail_in = static_cast<uInt>(in.size());
+	z.stream.next_out = out.data();
+	z.stream.avail_out = static_cast<uInt>(out.size());
+	return inflate(&z.stream, Z_FINISH) == Z_STREAM_END && z.stream.avail_out == 0;
+}
+
 } // namespace ihf::recording

@@ -19,6 +19,7 @@
 #include <bit>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -119,6 +120,24 @@ FrameRecord decodeFrameRecord(const uint8_t *in);
 
 // The CRC a frame record must carry: over its first 36 bytes and the payload.
 uint32_t frameCrc(const uint8_t *recordHeader, std::span<const uint8_t> payload);
+
+// zlib streams kept for a whole recording: set up once, reset per frame, so
+// compressing or inflating a frame does not allocate.
+struct ZlibStreams;
+struct ZlibStreamsDeleter {
+	void operator()(ZlibStreams *z) const;
+};
+using ZlibStreamsPtr = std::unique_ptr<ZlibStreams, ZlibStreamsDeleter>;
+
+ZlibStreamsPtr makeInflater();
+ZlibStreamsPtr makeDeflater(int level);
+// Upper bound of a deflated raw frame of rawBytes.
+size_t deflatedBound(ZlibStreams &z, size_t rawBytes);
+// Both return false if zlib fails; inflateFrame also if the output is not
+// exactly out.size() bytes.
+bool deflateFrame(ZlibStreams &z, std::span<const uint8_t> in, std::span<uint8_t> out,
+		  size_t *outSize);
+bool inflateFrame(ZlibStreams &z, std::span<const uint8_t> in, std::span<uint8_t> out);
 
 // Bytes of one raw frame.
 inline size_t rawFrameBytes(const RecordingHeader &h)

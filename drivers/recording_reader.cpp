@@ -48,6 +48,7 @@ RecordingReader &RecordingReader::operator=(RecordingReader &&other) noexcept
 	tailBytes_ = other.tailBytes_;
 	raw_ = std::move(other.raw_);
 	packed_ = std::move(other.packed_);
+	inflater_ = std::move(other.inflater_);
 	return *this;
 }
 
@@ -110,6 +111,9 @@ Expected<RecordingReader> RecordingReader::open(const fs::path &file)
 
 	r.raw_.resize(rawFrameBytes(r.header_));
 	r.packed_.resize(compressBound(static_cast<uLong>(r.raw_.size())));
+	r.inflater_ = makeInflater();
+	if (!r.inflater_)
+		return makeError(Errc::kIo, file.string() + ": cannot set up zlib");
 
 	if (!r.loadIndex()) {
 		r.entries_.clear();
@@ -262,9 +266,8 @@ Expected<FrameCheck> RecordingReader::read(size_t position, FrameRecord &record,
 	if (frameCrc(head, std::span<const uint8_t>(payload, record.payloadSize)) != record.crc)
 		return corrupt("CRC32 mismatch");
 	if (record.encoding == Encoding::kZlib) {
-		uLongf size = static_cast<uLongf>(raw_.size());
-		if (uncompress(raw_.data(), &size, packed_.data(), record.payloadSize) != Z_OK ||
-		    size != raw_.size())
+		if (!inflateFrame(*inflater_, std::span<const uint8_t>(packed_.data(), record.payloadSize),
+				  raw_))
 			return corrupt("zlib payload does not inflate to one frame");
 	}
 

@@ -79,6 +79,7 @@ private:
 	uint64_t tailBytes_ = 0;
 	std::vector<uint8_t> raw_; // one raw frame
 	std::vector<uint8_t> packed_; // the largest zlib payload
+	recording::ZlibStreamsPtr inflater_;
 };
 
 } // namespace ihf

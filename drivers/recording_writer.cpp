@@ -61,8 +61,13 @@ Expected<RecordingWriter> RecordingWriter::create(const fs::path &file,
 	w.header_ = header;
 	w.options_ = options;
 	w.raw_.resize(rawFrameBytes(header));
-	if (options.compress)
-		w.packed_.resize(compressBound(static_cast<uLong>(w.raw_.size())));
+	if (options.compress) {
+		w.deflater_ = makeDeflater(options.zlibLevel);
+		if (!w.deflater_)
+			return makeError(Errc::kIo, file.string() + ": cannot set up zlib");
+		w.packed_.resize(deflatedBound(*w.deflater_, w.raw_.size()));
+	}
+	w.index_.reserve(options.reserveFrames);
 	if (Status s = w.writeBytes(bytes->data(), bytes->size()); !s)
 		return s.error();
 	return w;
@@ -87,6 +92,7 @@ RecordingWriter &RecordingWriter::operator=(RecordingWriter &&other) noexcept
 	options_ = other.options_;
 	raw_ = std::move(other.raw_);
 	packed_ = std::move(other.packed_);
+	deflater_ = std::move(other.deflater_);
 	index_ = std::move(other.index_);
 	offset_ = other.offset_;
 	finished_ = other.finished_;
@@ -147,13 +153,10 @@ Status RecordingWriter::append(const FrameStamp &stamp, ImageView<const uint16_t
 	rec.hostTimestampNs = stamp.hostTimestampNs;
 	std::span<const uint8_t> payload = raw_;
 	if (options_.compress) {
-		uLongf packedSize = static_cast<uLongf>(packed_.size());
-		const int rc = compress2(packed_.data(), &packedSize, raw_.data(),
-					 static_cast<uLong>(raw_.size()), options_.zlibLevel);
-		if (rc != Z_OK)
+		size_t packedSize = 0;
+		if (!deflateFrame(*deflater_, raw_, packed_, &packedSize))
 			return makeError(Errc::kIo, file_.string() + ": zlib failed on frame " +
-							    std::to_string(stamp.index) + " (code " +
-							    std::to_string(rc) + ")");
+							    std::to_string(stamp.index));
 		if (packedSize < raw_.size()) {
 			rec.encoding = Encoding::kZlib;
 			payload = std::span<const uint8_t>(packed_.data(), packedSize);

@@ -5,8 +5,9 @@
 // beside the target ("F.tmp-<pid>-<n>"); finish() appends the seek index and
 // renames it over the target, so a reader never sees a half-written file
 // under the target name. Destroying an unfinished writer deletes the
-// temporary file. Buffers are sized at create(): append() does not allocate
-// except to grow the in-memory seek index.
+// temporary file. Buffers (and zlib's state) are set up at create(): append()
+// does not allocate, except to grow the in-memory seek index beyond
+// reserveFrames.
 
 #include <cstdio>
 #include <filesystem>
@@ -22,6 +23,7 @@ namespace ihf {
 struct RecordingWriterOptions {
 	bool compress = false; // zlib per frame (kept raw when that is not smaller)
 	int zlibLevel = 1; // 1 = fastest; enough for depth maps
+	size_t reserveFrames = 0; // index capacity to reserve (no growth up to it)
 };
 
 // The fields of one frame besides its pixels.
@@ -66,7 +68,8 @@ private:
 	recording::RecordingHeader header_;
 	RecordingWriterOptions options_;
 	std::vector<uint8_t> raw_; // one frame, little-endian rows
-	std::vector<uint8_t> packed_; // zlib output, compressBound(raw) bytes
+	std::vector<uint8_t> packed_; // zlib output, deflateBound(raw) bytes
+	recording::ZlibStreamsPtr deflater_;
 	std::vector<recording::IndexEntry> index_;
 	uint64_t offset_ = 0;
 	bool finished_ = false;
