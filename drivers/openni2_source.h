@@ -11,7 +11,9 @@
 // derived from it with the principal point at the image centre unless the
 // caller supplies a calibration. Depth scale follows the pixel format
 // (1 mm or 100 um). OpenNI2 keeps one process-wide context; each source
-// takes a reference (OpenNI::initialize/shutdown are counted).
+// takes a reference (OpenNI::initialize/shutdown are counted). OpenNI2 hands
+// every open of one URI the same device: two sources on one .oni share its
+// playback position.
 
 #include <memory>
 #include <optional>
