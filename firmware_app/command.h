@@ -25,5 +25,6 @@ void addRenderCommand(CLI::App &root, Action &action);
 void addForestCommand(CLI::App &root, Action &action);
 void addTrainCommand(CLI::App &root, Action &action);
 void addEstimateCommand(CLI::App &root, Action &action);
+void addRecordCommand(CLI::App &root, Action &action);
 
 } // namespace ihf::app

@@ -21,6 +21,7 @@ int main(int argc, char **argv)
 	addEvalCommand(root, action);
 	addRenderCommand(root, action);
 	addForestCommand(root, action);
+	addRecordCommand(root, action);
 
 	try {
 		root.parse(argc, argv);

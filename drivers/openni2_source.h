@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// Depth from OpenNI2 (libOpenNI2): a device (by URI, or the first one found)
+// or a .oni file. Files play in step mode by default (OpenNI2's "manual"
+// speed: a frame is produced when we ask for one, none is skipped) with
+// repeat off, so the stream ends after the last frame; realTime plays them
+// at recorded speed instead.
+//
+// OpenNI2 reports the field of view, not a calibration: intrinsics are
+// derived from it with the principal point at the image centre unless the
+// caller supplies a calibration. Depth scale follows the pixel format
+// (1 mm or 100 um). OpenNI2 keeps one process-wide context; each source
+// takes a reference (OpenNI::initialize/shutdown are counted). OpenNI2 hands
+// every open of one URI the same device: two sources on one .oni share its
+// playback position.
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "drivers/frame_source.h"
+
+namespace ihf {
+
+struct OpenNi2SourceOptions {
+	bool realTime = false; // files only: recorded speed instead of stepping
+	std::optional<CameraIntrinsics> intrinsics; // calibration overriding the FOV model
+};
+
+class OpenNi2Source : public FrameSource
+{
+public:
+	// deviceUri: an OpenNI2 device URI, a .oni path, or empty for the first device.
+	OpenNi2Source(std::string deviceUri, OpenNi2SourceOptions options = {}, std::string uri = {});
+	~OpenNi2Source() override;
+
+	Status open() override;
+	const SourceInfo &info() const override { return info_; }
+	Status start() override;
+	Expected<FrameOutcome> next(Frame &frame, std::chrono::nanoseconds timeout) override;
+	void stop() override;
+	SourceCounters counters() const override { return counters_; }
+
+	// Frames in a .oni file (0 for a device).
+	int fileFrameCount() const { return fileFrames_; }
+
+private:
+	struct State; // OpenNI2 objects, kept out of this header
+	void close();
+
+	std::string deviceUri_;
+	OpenNi2SourceOptions options_;
+	SourceInfo info_;
+	SourceCounters counters_;
+	std::unique_ptr<State> state_;
+	Image<uint16_t> buffer_;
+	int fileFrames_ = 0;
+	int fileFramesRead_ = 0;
+	std::optional<uint64_t> lastIndex_;
+	bool started_ = false;
+};
+
+} // namespace ihf
