@@ -45,13 +45,13 @@ struct EstimatorConfig {
 	// the whole box as the paper does.
 	int depthWindows = 2;
 	float depthWindowWidth = 1.0f;
-	int maxHypotheses = 4; // translation modes scored per iteration
-	int rotationModes = 2; // rotation modes per translation mode
+	int maxHypotheses = 6; // translation modes scored per iteration
+	int rotationModes = 3; // rotation modes per translation mode
 	float translationBandwidth = 0.06f; // of the object diameter
 	float rotationBandwidthDeg = 15.0f;
 	int partStride = 0; // 0: the model's training stride
 	bool icp = true;
-	int icpCandidates = 3; // distinct best hypotheses polished by ICP
+	int icpCandidates = 8; // distinct best hypotheses polished by ICP
 	IcpConfig icpConfig;
 	ScoreConfig score;
 	int minValidPixels = 60;
