@@ -295,6 +295,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	score.get("occluded_weight", e.score.occludedWeight);
 	score.get("box_weight", e.score.boxWeight);
 	score.get("box_min_fill", e.score.boxMinFill);
+	score.get("box_margin", e.score.boxMargin);
 	IHF_SECTION(score);
 
 	TableReader icp(root["icp"].as_table(), file, "icp");

@@ -66,7 +66,12 @@ float boxAgreement(const Mesh &mesh, const Pose &pose, const CameraIntrinsics &w
 	const float area = std::max(1.0f, (u1 - u0) * (v1 - v0));
 	const float iw = std::max(0.0f, std::min(u1, static_cast<float>(window.width)) - std::max(u0, 0.0f));
 	const float ih = std::max(0.0f, std::min(v1, static_cast<float>(window.height)) - std::max(v0, 0.0f));
-	const float inside = iw * ih / area;
+	// A detector's box is itself off by some percent: overhang within
+	// boxMargin of the box size costs nothing.
+	const float mx = config.boxMargin * window.width, my = config.boxMargin * window.height;
+	const float ow = std::max(0.0f, std::min(u1, window.width + mx) - std::max(u0, -mx));
+	const float oh = std::max(0.0f, std::min(v1, window.height + my) - std::max(v0, -my));
+	const float inside = std::min(1.0f, ow * oh / area);
 	const float fill = iw * ih / (static_cast<float>(window.width) * window.height);
 	const float fillTerm = std::min(1.0f, fill / std::max(1e-3f, config.boxMinFill));
 	return std::pow(inside * fillTerm, config.boxWeight);

@@ -28,6 +28,7 @@ struct ScoreConfig {
 	// for the box) or too far (too small) loses; boxWeight 0 turns it off.
 	float boxWeight = 1.0f;
 	float boxMinFill = 0.5f;
+	float boxMargin = 0.1f; // overhang tolerated, share of the box size
 };
 
 struct HypothesisScore {

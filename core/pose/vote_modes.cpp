@@ -149,23 +149,33 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 			w[i] = in ? votes[i].weight * std::exp(-d2 * inv2s2) : 0.0f;
 			support += in ? votes[i].weight : 0.0f;
 		}
-		// Seeds: the heaviest supporting votes.
-		constexpr int kRotSeeds = 8;
+		// Seeds: the heaviest supporting votes, plus votes at an even stride
+		// over the support so that weaker rotation clusters get a seed too.
+		constexpr int kHeavy = 8, kRotSeeds = 20;
 		size_t seedIdx[kRotSeeds];
 		int nSeeds = 0;
+		size_t supporting = 0;
 		for (size_t i = 0; i < votes.size() && support > 0; ++i) {
 			if (w[i] <= 0)
 				continue;
-			if (nSeeds < kRotSeeds) {
+			++supporting;
+			if (nSeeds < kHeavy) {
 				seedIdx[nSeeds++] = i;
 			} else {
 				int weakest = 0;
-				for (int j = 1; j < kRotSeeds; ++j)
+				for (int j = 1; j < kHeavy; ++j)
 					if (w[seedIdx[j]] < w[seedIdx[weakest]])
 						weakest = j;
 				if (w[i] > w[seedIdx[weakest]])
 					seedIdx[weakest] = i;
 			}
+		}
+		if (supporting > static_cast<size_t>(kHeavy)) {
+			const size_t stride = std::max<size_t>(1, supporting / (kRotSeeds - kHeavy));
+			size_t k = 0;
+			for (size_t i = 0; i < votes.size() && nSeeds < kRotSeeds; ++i)
+				if (w[i] > 0 && k++ % stride == stride / 2)
+					seedIdx[nSeeds++] = i;
 		}
 		Eigen::Quaternionf found_q[kRotSeeds];
 		float found_d[kRotSeeds];

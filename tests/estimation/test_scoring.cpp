@@ -57,9 +57,15 @@ TEST(BoxAgreement, PenalisesPosesTooNearOrTooFarForTheBox)
 	Pose p;
 	p.t = Eigen::Vector3d(0, 0, 800);
 	EXPECT_NEAR(boxAgreement(cube, p, K, cfg), 1.0f, 1e-6f);
-	p.t.z() = 500; // too near: 100..111 px, sticks out
+	p.t.z() = 400; // too near: 125..139 px, sticks out beyond the margin
 	float nearF = boxAgreement(cube, p, K, cfg);
-	EXPECT_LT(nearF, 0.7f);
+	EXPECT_LT(nearF, 0.6f);
+	p.t = Eigen::Vector3d(20, 0, 800); // ~6 px overhang, within the 8 px margin
+	EXPECT_NEAR(boxAgreement(cube, p, K, cfg), 1.0f, 1e-6f);
+	ScoreConfig strict = cfg;
+	strict.boxMargin = 0;
+	EXPECT_LT(boxAgreement(cube, p, K, strict), 0.99f);
+	p.t = Eigen::Vector3d(0, 0, 800);
 	p.t.z() = 2000; // too far: 25 px, covers ~10% of the box
 	float farF = boxAgreement(cube, p, K, cfg);
 	EXPECT_LT(farF, 0.3f);
