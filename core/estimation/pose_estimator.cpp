@@ -362,9 +362,9 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		return out;
 	}
 
-	if (config.icp && !icpFits())
-		out.icpSkipped = true;
-	else if (config.icp) {
+	const bool polish = config.icp && icpFits();
+	out.icpSkipped = config.icp && !polish;
+	if (polish) {
 		const int64_t icpStart = timer_.last();
 		maskToHypothesis(best.score, config);
 		int n = buildCloud(workingView_, vk, params);
