@@ -22,7 +22,7 @@ class EstimatorBudget : public ::testing::Test
 protected:
 	static void SetUpTestSuite()
 	{
-		model_ = new test::SmallModel(test::trainSmallModel(1, 11));
+		model_ = new test::SmallModel(test::trainSmallModel(1, 11, 20, 2));
 		depth_ = new DepthImageMm(640, 480, 0.0f);
 		ASSERT_TRUE(model_->model);
 		box_ = test::renderInto(*model_->model, test::viewAt(*model_, 37, {60, -40, 800}), *depth_);
