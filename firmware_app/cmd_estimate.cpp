@@ -11,8 +11,10 @@
 #include "core/dataset/bop_dataset.h"
 #include "core/dataset/bop_io.h"
 #include "core/estimation/pose_estimator.h"
+#include "core/dataset/atomic_file.h"
 #include "core/model/forest_file.h"
 #include "firmware_app/command.h"
+#include "firmware_app/estimate_stats.h"
 #include "firmware_app/pipeline_config.h"
 
 namespace ihf::app {
@@ -26,7 +28,9 @@ struct EstimateOptions {
 	std::vector<std::string> forests;
 	std::string out;
 	std::string config;
+	std::string statsJson;
 	int iterations = -1;
+	double budgetMs = -1;
 	bool noIcp = false;
 	bool quiet = false;
 	std::string trace;
@@ -60,15 +64,6 @@ private:
 	int scene_ = 0, image_ = 0, obj_ = 0;
 };
 
-double percentile(std::vector<double> v, double p)
-{
-	if (v.empty())
-		return 0;
-	std::sort(v.begin(), v.end());
-	size_t i = static_cast<size_t>(std::min<double>(v.size() - 1, std::floor(p * (v.size() - 1) + 0.5)));
-	return v[i];
-}
-
 int runEstimate(const EstimateOptions &o)
 {
 	auto settings = loadEstimateConfig(o.config);
@@ -81,6 +76,8 @@ int runEstimate(const EstimateOptions &o)
 		s.estimator.iterations = o.iterations;
 	if (o.noIcp)
 		s.estimator.icp = false;
+	if (o.budgetMs >= 0)
+		s.estimator.frameBudgetMs = static_cast<float>(o.budgetMs);
 
 	std::map<int, std::unique_ptr<ObjectModel>> models;
 	for (const auto &spec : o.forests) {
@@ -125,6 +122,11 @@ int runEstimate(const EstimateOptions &o)
 		perImage[{d.sceneId, d.imageId}].push_back(&d);
 
 	PoseEstimator estimator(s.limits);
+	if (!estimator.valid()) {
+		std::fprintf(stderr, "ihf estimate: cannot allocate the estimator's arena of %zu bytes\n",
+			     PoseEstimator::arenaBytes(s.limits));
+		return kExitFailure;
+	}
 	std::unique_ptr<std::FILE, int (*)(std::FILE *)> traceFile(nullptr, &std::fclose);
 	std::unique_ptr<TraceWriter> trace;
 	if (!o.trace.empty()) {
@@ -171,6 +173,11 @@ int runEstimate(const EstimateOptions &o)
 
 		std::vector<ResultRow> imageRows;
 		double imageTime = 0;
+		// The frame's budget is shared by the boxes that have a forest.
+		const int frameBoxes = static_cast<int>(std::count_if(boxes.begin(), boxes.end(), [&](const Detection *d) {
+			return models.count(d->categoryId) > 0;
+		}));
+		estimator.beginFrame(frameBoxes, s.estimator.frameBudgetMs);
 		for (const Detection *d : boxes) {
 			auto mIt = models.find(d->categoryId);
 			if (mIt == models.end()) {
@@ -221,6 +228,7 @@ int runEstimate(const EstimateOptions &o)
 			r.pose = e.pose;
 			imageRows.push_back(r);
 		}
+		estimator.endFrame();
 		for (auto &r : imageRows) {
 			r.time = imageTime;
 			rows.push_back(r);
@@ -235,6 +243,14 @@ int runEstimate(const EstimateOptions &o)
 		     "p99 %.1f ms; wrote %s\n",
 		     done, rows.size(), noPose, skipped, 1e3 * percentile(boxTimes, 0.5),
 		     1e3 * percentile(boxTimes, 0.99), o.out.c_str());
+	EstimateRunSummary summary{estimator.stats(), s.limits, s.estimator.frameBudgetMs, boxTimes};
+	printEstimateStats(stderr, summary);
+	if (!o.statsJson.empty()) {
+		if (auto st = writeFileAtomic(o.statsJson, estimateStatsJson(summary)); !st) {
+			std::fprintf(stderr, "ihf estimate: %s\n", st.error().message.c_str());
+			return kExitFailure;
+		}
+	}
 	return kExitOk;
 }
 
@@ -254,6 +270,11 @@ void addEstimateCommand(CLI::App &root, Action &action)
 	cmd->add_option("--iterations", opts->iterations, "Refinement iterations k (0: initial registration only)")
 		->check(CLI::Range(0, 100));
 	cmd->add_flag("--no-icp", opts->noIcp, "Skip the final ICP polish (the paper's method alone)");
+	cmd->add_option("--budget-ms", opts->budgetMs,
+			"Time budget per frame in ms, shared by its boxes (0: unlimited; default from the config, 33)")
+		->check(CLI::Range(0.0, 1e6));
+	cmd->add_option("--stats-json", opts->statsJson,
+			"Also write the per-stage times, budget counters and arena use as JSON");
 	cmd->add_flag("--quiet", opts->quiet, "Do not report per-box failures");
 	cmd->add_option("--trace", opts->trace,
 			"Write every scored hypothesis (and the ground truth's score, if known) as JSON lines");

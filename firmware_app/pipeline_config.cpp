@@ -265,7 +265,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	EstimateSettings s;
 	if (path.empty())
 		return s;
-	auto parsed = openConfig(path, {"refinement", "votes", "score", "icp", "limits"});
+	auto parsed = openConfig(path, {"refinement", "votes", "score", "icp", "budget", "limits"});
 	if (!parsed)
 		return parsed.error();
 	const toml::table &root = *parsed;
@@ -306,6 +306,10 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	icp.get("min_distance_mm", e.icpConfig.minDistanceMm);
 	IHF_SECTION(icp);
 
+	TableReader budget(root["budget"].as_table(), file, "budget");
+	budget.get("frame_ms", e.frameBudgetMs);
+	IHF_SECTION(budget);
+
 	TableReader lim(root["limits"].as_table(), file, "limits");
 	lim.get("max_window_pixels", s.limits.maxWindowPixels);
 	lim.get("max_parts", s.limits.maxParts);
@@ -315,7 +319,9 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	lim.get("max_ibs_points", s.limits.maxIbsPoints);
 	lim.get("max_ibs_n", s.limits.maxIbsN);
 	lim.get("max_mesh_vertices", s.limits.maxMeshVertices);
+	lim.get("max_histogram_dims", s.limits.maxHistogramDims);
 	lim.get("max_modes", s.limits.maxModes);
+	lim.get("max_mode_seeds", s.limits.maxModeSeeds);
 	lim.get("max_candidates", s.limits.maxCandidates);
 	IHF_SECTION(lim);
 	return s;

@@ -25,6 +25,10 @@ struct TrainSettings {
 };
 
 struct EstimateSettings {
+	// The pipeline runs under a frame budget by default; the library's
+	// default is unlimited (so its tests do not depend on the machine).
+	EstimateSettings() { estimator.frameBudgetMs = 33.0f; }
+
 	EstimatorConfig estimator;
 	EstimatorLimits limits;
 };

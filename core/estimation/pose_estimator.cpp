@@ -13,38 +13,155 @@
 
 namespace ihf {
 
-PoseEstimator::PoseEstimator(const EstimatorLimits &limits)
-	: limits_(limits), renderer_(limits.maxMeshVertices)
+namespace {
+
+IbsLimits ibsLimits(const EstimatorLimits &limits)
 {
 	IbsLimits ibs;
 	ibs.maxN = limits.maxIbsN;
 	ibs.maxPoints = limits.maxIbsPoints;
 	ibs.maxActive = limits.maxActive;
-	fitter_.reserve(ibs);
+	return ibs;
+}
+
+PartLimits partLimits(const EstimatorLimits &limits)
+{
 	PartLimits pl;
 	pl.maxPoints = limits.maxWindowPixels;
 	pl.maxControlPoints = limits.maxActive;
 	pl.maxBoxPixels = limits.maxWindowPixels;
-	extractor_.reserve(pl);
+	return pl;
+}
 
-	const size_t px = static_cast<size_t>(limits.maxWindowPixels);
-	observed_.resize(px);
-	working_.resize(px);
-	render_.resize(px);
-	cloud_.resize(px);
-	unit_.resize(px);
-	normals_.resize(px);
-	active_.resize(limits.maxActive);
-	parts_.resize(limits.maxParts);
-	pool_.resize(static_cast<size_t>(limits.maxParts) * limits.maxPartControlPoints);
-	hist_.resize(1024);
-	votes_.resize(limits.maxVotes);
-	modeScratch_.resize(limits.maxVotes);
-	seeds_.resize(64);
-	modes_.resize(static_cast<size_t>(std::max(1, limits.maxModes)));
-	kept_.resize(static_cast<size_t>(std::max(1, limits.maxCandidates)));
-	windowHist_.resize(1024);
-	windows_.resize(8);
+size_t count(int n)
+{
+	return static_cast<size_t>(std::max(n, 0));
+}
+
+} // namespace
+
+template<typename A>
+bool PoseEstimator::carvePersistent(A &arena)
+{
+	const EstimatorLimits &l = limits_;
+	return arenaTake(arena, observed_, count(l.maxWindowPixels)) &&
+	       arenaTake(arena, active_, count(l.maxActive)) && arenaTake(arena, parts_, count(l.maxParts)) &&
+	       arenaTake(arena, pool_, count(l.maxParts) * count(l.maxPartControlPoints)) &&
+	       arenaTake(arena, hist_, count(l.maxHistogramDims)) &&
+	       arenaTake(arena, votes_, count(l.maxVotes)) &&
+	       arenaTake(arena, modeScratch_, count(l.maxVotes)) &&
+	       arenaTake(arena, seeds_, count(l.maxModeSeeds)) && arenaTake(arena, modes_, count(l.maxModes)) &&
+	       arenaTake(arena, windowHist_, size_t{1024}) && arenaTake(arena, windows_, size_t{8}) &&
+	       arenaTake(arena, kept_, count(std::max(1, l.maxCandidates)));
+}
+
+template<typename A>
+bool PoseEstimator::carveBox(A &arena, size_t pixels)
+{
+	return arenaTake(arena, working_, pixels) && arenaTake(arena, render_, pixels) &&
+	       arenaTake(arena, cloud_, pixels) && arenaTake(arena, unit_, pixels) &&
+	       arenaTake(arena, normals_, pixels);
+}
+
+size_t PoseEstimator::arenaBytes(const EstimatorLimits &limits)
+{
+	// The carve functions only record sizes on an ArenaSizer; a scratch
+	// estimator over an empty arena provides the members to carve into.
+	ArenaSizer sizer;
+	PoseEstimator scratch(limits, nullptr, 0);
+	scratch.carvePersistent(sizer);
+	scratch.carveBox(sizer, count(limits.maxWindowPixels));
+	return sizer.bytes + IbsFitter::arenaBytes(ibsLimits(limits)) +
+	       PartExtractor::arenaBytes(partLimits(limits)) + DepthRenderer::arenaBytes(limits.maxMeshVertices);
+}
+
+PoseEstimator::PoseEstimator(const EstimatorLimits &limits, const Clock *clock, int)
+	: limits_(limits), timer_(clock ? *clock : steadyClock_)
+{
+}
+
+PoseEstimator::PoseEstimator(const EstimatorLimits &limits, const Clock *clock)
+	: limits_(limits), timer_(clock ? *clock : steadyClock_)
+{
+	auto arena = Arena::create(arenaBytes(limits));
+	if (!arena)
+		return;
+	arena_ = std::move(*arena);
+	valid_ = fitter_.reserve(ibsLimits(limits), arena_).ok() &&
+		 extractor_.reserve(partLimits(limits), arena_).ok() &&
+		 renderer_.reserve(limits.maxMeshVertices, arena_).ok() && carvePersistent(arena_);
+	persistentBytes_ = arena_.used();
+}
+
+void PoseEstimator::beginFrame(int boxes, float budgetMs)
+{
+	budget_.beginFrame(timer_.clock().nowNs(), static_cast<int64_t>(budgetMs * 1e6), boxes);
+}
+
+void PoseEstimator::endFrame()
+{
+	// The frame ends with its last box's last stage.
+	budget_.endFrame(timer_.last());
+}
+
+PoseEstimator::BoxScope::BoxScope(PoseEstimator &e, const EstimatorConfig &config)
+	: e_(e), scratch_(e.arena_), ownFrame_(!e.budget_.inFrame())
+{
+	if (ownFrame_)
+		e_.beginFrame(1, config.frameBudgetMs);
+	e_.budget_.beginBox(e_.timer_.start());
+}
+
+PoseEstimator::BoxScope::~BoxScope()
+{
+	// The box ends with its last stage (what follows it is bookkeeping).
+	const int64_t now = e_.timer_.last();
+	e_.budget_.endBox(now);
+	if (ownFrame_)
+		e_.budget_.endFrame(now);
+	e_.working_ = e_.render_ = {};
+	e_.cloud_ = {};
+	e_.unit_ = e_.normals_ = {};
+}
+
+bool PoseEstimator::refinementFits(const EstimatorConfig &config)
+{
+	int64_t predicted = costs_.predict({Stage::kCloud, Stage::kNormalise, Stage::kIbsFit, Stage::kParts,
+					    Stage::kHocp, Stage::kForest, Stage::kModes, Stage::kScore});
+	// Keep room for the polish after the last iteration.
+	if (config.icp)
+		predicted += costs_.average(Stage::kIcp);
+	if (budget_.fits(timer_.now(), predicted))
+		return true;
+	++budgetStops_;
+	return false;
+}
+
+bool PoseEstimator::icpFits()
+{
+	if (budget_.fits(timer_.now(), costs_.average(Stage::kIcp)))
+		return true;
+	++icpSkipped_;
+	return false;
+}
+
+EstimatorStats PoseEstimator::stats() const
+{
+	EstimatorStats s;
+	s.stages = timer_.counters();
+	s.frames = budget_.frames();
+	s.boxes = budget_.boxes();
+	s.iterations = iterationsRun_;
+	s.budgetStops = budgetStops_;
+	s.icpSkipped = icpSkipped_;
+	s.frameOverruns = budget_.frameOverruns();
+	s.boxOverruns = budget_.boxOverruns();
+	s.worstFrameNs = budget_.worstFrameNs();
+	s.arenaCapacity = arena_.capacity();
+	s.arenaPersistent = persistentBytes_;
+	s.arenaHighWater = arena_.highWater();
+	s.peaks = peaks_;
+	return s;
 }
 
 void PoseEstimator::report(int iteration, const char *stage, int rank, const Pose &virtualPose,
@@ -96,7 +213,10 @@ int PoseEstimator::buildCloud(ImageView<const float> depth, const CameraIntrinsi
 {
 	auto n = cloudFromDepth(depth, K, PixelBox{0, 0, depth.width, depth.height}, params.cloud,
 				cloud_);
-	return n ? *n : 0;
+	timer_.lap(Stage::kCloud);
+	const int points = n ? *n : 0;
+	peaks_.cloudPoints = std::max(peaks_.cloudPoints, points);
+	return points;
 }
 
 bool PoseEstimator::hypothesisFrame(const Pose &pose, const CameraIntrinsics &K,
@@ -154,10 +274,13 @@ int PoseEstimator::voteOnce(const CameraIntrinsics &K, const ObjectModel &model,
 			return 0;
 	}
 	std::span<const CloudPoint> cloud(cloud_.data(), cloudCount);
+	timer_.lap(Stage::kNormalise);
 	auto fit = fitter_.fit(std::span(unit_.data(), cloud.size()),
 			       std::span(normals_.data(), cloud.size()), params.ibs, active_);
+	timer_.lap(Stage::kIbsFit);
 	if (!fit)
 		return 0;
+	peaks_.activeControlPoints = std::max(peaks_.activeControlPoints, fit->activeCount);
 	PartSource src;
 	src.cloud = cloud;
 	src.unit = std::span(unit_.data(), cloud.size());
@@ -172,20 +295,36 @@ int PoseEstimator::voteOnce(const CameraIntrinsics &K, const ObjectModel &model,
 		partCfg.stride = config.partStride;
 	partCfg.maxControlPoints = std::min(partCfg.maxControlPoints, limits_.maxPartControlPoints);
 	auto parts = extractor_.extractAll(partCfg, params.hocp, parts_, pool_);
+	timer_.lap(Stage::kParts);
 	if (!parts)
 		return 0;
 	partCount = *parts;
+	peaks_.parts = std::max(peaks_.parts, partCount);
+	if (partCount > 0) {
+		const Part &last = parts_[partCount - 1];
+		peaks_.poolControlPoints = std::max(peaks_.poolControlPoints,
+						    static_cast<int>(last.cpOffset + last.cpCount));
+	}
 
+	// Two passes so that the stage counters can tell the HoCP keys from the
+	// forest walk (whose depth-checked histograms depend on each node).
 	const float mmPerUnit = frame->mmPerUnit();
+	for (int i = 0; i < partCount; ++i) {
+		Part &p = parts_[i];
+		partToMillimetres(std::span(pool_.data() + p.cpOffset, p.cpCount), p.zMin, p.zMax,
+				  mmPerUnit, params.hocp);
+	}
+	timer_.lap(Stage::kHocp);
 	std::span<float> hist(hist_.data(), model.forest().dims);
 	size_t votes = 0;
 	for (int i = 0; i < partCount; ++i) {
-		Part &p = parts_[i];
-		std::span<PartCp> cps(pool_.data() + p.cpOffset, p.cpCount);
-		partToMillimetres(cps, p.zMin, p.zMax, mmPerUnit, params.hocp);
+		const Part &p = parts_[i];
+		std::span<const PartCp> cps(pool_.data() + p.cpOffset, p.cpCount);
 		votes = castPartVotes(model.forest(), cps, p.centreCamera, params.hocp,
 				      params.depthCheckMarginMm, hist, votes_, votes);
 	}
+	timer_.lap(Stage::kForest);
+	peaks_.votes = std::max(peaks_.votes, static_cast<int>(votes));
 	return static_cast<int>(votes);
 }
 
@@ -231,19 +370,29 @@ Expected<HypothesisScore> PoseEstimator::scorePose(ImageView<const float> depth,
 						   const ObjectModel &model,
 						   const EstimatorConfig &config, const Pose &pose)
 {
+	if (!valid_)
+		return makeError(Errc::kCapacity, "estimator has no memory (arena allocation failed)");
 	if (model.mesh().vertices.size() > renderer_.capacity())
 		return makeError(Errc::kCapacity, "model mesh larger than the estimator's render limit");
-	auto crop = makeVirtualCrop(depth, K, box,
-				    std::span(observed_.data(), static_cast<size_t>(limits_.maxWindowPixels)));
-	if (!crop)
-		return crop.error();
-	const CameraIntrinsics &vk = crop->intrinsics;
+	ArenaScope scratch(arena_);
+	VirtualCrop crop;
+	const CropStatus status = makeVirtualCrop(depth, K, box, observed_, crop);
+	if (status != CropStatus::kOk)
+		return makeError(Errc::kInvalidArgument,
+				 status == CropStatus::kOutsideImage ? "box outside the image" : "empty box");
+	const CameraIntrinsics &vk = crop.intrinsics;
+	if (!carveBox(arena_, static_cast<size_t>(vk.width) * vk.height))
+		return makeError(Errc::kCapacity, "arena too small for the box");
 	observedView_ = ImageView<float>(observed_.data(), vk.width, vk.height, vk.width);
 	renderView_ = ImageView<float>(render_.data(), vk.width, vk.height, vk.width);
 	Pose virt;
-	virt.R = crop->rotation.transpose() * pose.R;
-	virt.t = crop->rotation.transpose() * pose.t;
-	return score(virt, vk, model, config);
+	virt.R = crop.rotation.transpose() * pose.R;
+	virt.t = crop.rotation.transpose() * pose.t;
+	HypothesisScore s = score(virt, vk, model, config);
+	working_ = render_ = {};
+	cloud_ = {};
+	unit_ = normals_ = {};
+	return s;
 }
 
 void PoseEstimator::maskToHypothesis(const HypothesisScore &s, const EstimatorConfig &config)
@@ -265,22 +414,38 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 				     const EstimatorConfig &config)
 {
 	PoseEstimate out;
+	BoxScope scope(*this, config);
+	if (!valid_) {
+		out.reason = "estimator has no memory (arena allocation failed)";
+		return out;
+	}
 	if (model.mesh().vertices.size() > renderer_.capacity()) {
 		out.reason = "model mesh larger than the estimator's render limit";
 		return out;
 	}
-	auto crop = makeVirtualCrop(depth, K, box,
-				    std::span(observed_.data(), static_cast<size_t>(limits_.maxWindowPixels)));
-	if (!crop) {
-		out.reason = crop.error().code == Errc::kOutOfRange ? "box outside the image" : "empty box";
+	if (model.forest().dims > limits_.maxHistogramDims) {
+		out.reason = "forest histogram longer than the estimator's limit";
 		return out;
 	}
+	VirtualCrop cropStorage;
+	const CropStatus cropStatus = makeVirtualCrop(depth, K, box, observed_, cropStorage);
+	timer_.lap(Stage::kCrop);
+	if (cropStatus != CropStatus::kOk) {
+		out.reason = cropStatus == CropStatus::kOutsideImage ? "box outside the image" : "empty box";
+		return out;
+	}
+	const VirtualCrop *crop = &cropStorage;
 	if (crop->validPixels < config.minValidPixels) {
 		out.reason = "too few valid depth pixels in the box";
 		return out;
 	}
 	const CameraIntrinsics &vk = crop->intrinsics;
 	const int w = vk.width, h = vk.height;
+	peaks_.windowPixels = std::max(peaks_.windowPixels, w * h);
+	if (!carveBox(arena_, static_cast<size_t>(w) * h)) {
+		out.reason = "arena too small for the box";
+		return out;
+	}
 	observedView_ = ImageView<float>(observed_.data(), w, h, w);
 	workingView_ = ImageView<float>(working_.data(), w, h, w);
 	renderView_ = ImageView<float>(render_.data(), w, h, w);
@@ -294,6 +459,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	cropRotation_ = crop->rotation;
 	keptCount_ = 0;
 	modeCfg.rotationModesPerCentre = std::max(1, config.rotationModes);
+	modeCfg.maxSeeds = static_cast<int>(seeds_.size());
 	const size_t modeSlots = std::min(modes_.size(),
 					  static_cast<size_t>(std::max(1, config.maxHypotheses)) *
 						  static_cast<size_t>(modeCfg.rotationModesPerCentre));
@@ -302,11 +468,16 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		windows = findDepthWindows(observedView_,
 					   static_cast<float>(config.depthWindowWidth * params.diameter),
 					   windowHist_,
-					   std::span(windows_.data(), std::min(windows_.size(),
-									       static_cast<size_t>(config.depthWindows))));
+					   windows_.first(std::min(windows_.size(),
+								   static_cast<size_t>(config.depthWindows))));
 	UnitCubeFrame cube;
 	bool haveFrame = false;
 	for (int k = 0; k <= config.iterations; ++k) {
+		if (k > 0 && !refinementFits(config)) {
+			out.budgetStopped = true;
+			break;
+		}
+		const StageTotals iterationStart = timer_.totals();
 		// The initial registration votes once per depth window (or once on
 		// the whole box); refinement once on the masked crop.
 		const size_t passes = k == 0 ? std::max<size_t>(1, windows) : 1;
@@ -325,11 +496,17 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 			if (votes == 0)
 				continue;
 			size_t modes = findPoseModes(std::span(votes_.data(), votes), modeCfg,
-						     {modeScratch_, seeds_}, std::span(modes_.data(), modeSlots));
+						     {modeScratch_, seeds_}, modes_.first(modeSlots));
+			timer_.lap(Stage::kModes);
 			Hypothesis h = scoreModes(k, modes, vk, model, config);
+			timer_.lap(Stage::kScore);
 			if (h.valid && (!iterBest.valid || h.score.score > iterBest.score.score))
 				iterBest = h;
 		}
+		// The initial registration's passes are observed together: an
+		// over-estimate of one refinement, which keeps the budget safe.
+		costs_.observe(iterationStart, timer_.totals());
+		iterationsRun_ += k > 0;
 		if (!iterBest.valid)
 			break;
 		out.iterationsDone = k;
@@ -346,18 +523,22 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	}
 	Hypothesis best = kept_[0];
 
-	if (config.icp) {
-		// Polish the best distinct hypotheses; each sees the crop cut to its
-		// own depth range, and the best score after ICP wins.
-		const size_t polish = std::min(keptCount_, static_cast<size_t>(std::max(0, config.icpCandidates)));
-		for (size_t c = 0; c < polish; ++c) {
-			const Hypothesis &cand = kept_[c];
-			maskToHypothesis(cand.score, config);
-			int n = buildCloud(workingView_, vk, params);
-			IcpResult icp = refineIcp(std::span(cloud_.data(), n), model.mesh(), cand.pose, vk,
-						  renderer_, renderView_, config.icpConfig);
-			if (icp.iterations == 0)
-				continue;
+	// Polish the best distinct hypotheses; each sees the crop cut to its own
+	// depth range, and the best score after ICP wins. Each polish must fit
+	// the budget.
+	const size_t polishCount = config.icp ? std::min(keptCount_, static_cast<size_t>(std::max(0, config.icpCandidates))) : 0;
+	for (size_t c = 0; c < polishCount; ++c) {
+		if (!icpFits()) {
+			out.icpSkipped = true;
+			break;
+		}
+		const int64_t icpStart = timer_.last();
+		const Hypothesis cand = kept_[c];
+		maskToHypothesis(cand.score, config);
+		int n = buildCloud(workingView_, vk, params);
+		IcpResult icp = refineIcp(std::span(cloud_.data(), n), model.mesh(), cand.pose, vk,
+					  renderer_, renderView_, config.icpConfig);
+		if (icp.iterations > 0) {
 			HypothesisScore s = score(icp.pose, vk, model, config);
 			report(cand.iteration, "icp", static_cast<int>(c), icp.pose, s, 0);
 			if (s.score > best.score.score) {
@@ -367,6 +548,9 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 				out.icpApplied = true;
 			}
 		}
+		// The cost model sees the whole polish (its cloud is counted
+		// under the cloud stage).
+		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart);
 	}
 	out.bestIteration = best.iteration;
 

@@ -15,15 +15,26 @@
 //     distinct hypotheses of all iterations; the best score wins.
 // Hypotheses are scored by depth consistency with the crop and agreement
 // with the given box (hypothesis_score.h).
-// All buffers are sized at construction from EstimatorLimits; estimate()
-// does not allocate.
+// All frame-path memory is one arena allocated at construction and sized
+// from EstimatorLimits (arenaBytes()): persistent buffers at its bottom, the
+// per-box scratch (sized to the box's window) above them; estimate() does
+// not allocate. Boxes larger than the window limit are processed
+// downsampled (virtual_crop.h).
+//
+// Frame budget: beginFrame()/endFrame() bracket the boxes of one frame,
+// which share EstimatorConfig::frameBudgetMs (a lone estimate() call is a
+// frame of one box). The crop and the initial registration always run; each
+// refinement iteration, and the ICP polish, runs only if its cost predicted
+// from the measured per-stage running averages fits in the box's share, so
+// refinement is anytime: cut short, it returns the best hypothesis so far.
+// Per-stage times, budget stops and overruns are counted (stats()).
 
 #include <span>
-#include <vector>
 
 #include "core/common/expected.h"
 #include "core/common/image.h"
 #include "core/estimation/depth_windows.h"
+#include "core/estimation/estimator_stats.h"
 #include "core/estimation/hypothesis_score.h"
 #include "core/estimation/icp_refiner.h"
 #include "core/features/cloud_point.h"
@@ -33,6 +44,10 @@
 #include "core/model/object_model.h"
 #include "core/pose/vote_modes.h"
 #include "core/render/depth_renderer.h"
+#include "core/runtime/arena.h"
+#include "core/runtime/clock.h"
+#include "core/runtime/frame_budget.h"
+#include "core/runtime/stage_timer.h"
 
 namespace ihf {
 
@@ -60,6 +75,7 @@ struct EstimatorConfig {
 	// normalises with the whole silhouette; false: the paper's Eq. 1 on
 	// the masked cloud.
 	bool hypothesisCube = true;
+	float frameBudgetMs = 0; // per frame, shared by its boxes; 0: unlimited
 };
 
 struct EstimatorLimits {
@@ -71,8 +87,10 @@ struct EstimatorLimits {
 	int maxIbsPoints = 4000;
 	int maxIbsN = 100;
 	size_t maxMeshVertices = 50000;
-	int maxModes = 32;      // vote modes per iteration (translation x rotation)
-	int maxCandidates = 16; // distinct hypotheses kept over the iterations
+	int maxHistogramDims = 1024; // HoCP length of the forests
+	int maxModes = 32;           // vote modes per iteration (translation x rotation)
+	int maxModeSeeds = 64;
+	int maxCandidates = 16;      // distinct hypotheses kept over the iterations
 };
 
 // One scored hypothesis, reported to an EstimateObserver (debugging, the
@@ -104,14 +122,36 @@ struct PoseEstimate {
 	int votes = 0;
 	bool icpApplied = false;
 	HypothesisScore score;
+	bool budgetStopped = false; // refinement cut short by the frame budget
+	bool icpSkipped = false;    // ICP left out by the frame budget
 };
 
 class PoseEstimator
 {
 public:
-	explicit PoseEstimator(const EstimatorLimits &limits = {});
+	// clock: the time source of budget and stage counters (a steady clock
+	// if null); it must outlive the estimator.
+	explicit PoseEstimator(const EstimatorLimits &limits = {}, const Clock *clock = nullptr);
+	PoseEstimator(const PoseEstimator &) = delete;
+	PoseEstimator &operator=(const PoseEstimator &) = delete;
 
 	const EstimatorLimits &limits() const { return limits_; }
+
+	// Arena bytes for the limits: persistent buffers plus the scratch of a
+	// box of maxWindowPixels.
+	static size_t arenaBytes(const EstimatorLimits &limits);
+	// False if the arena could not be allocated or carved; estimate() then
+	// returns "no pose" with that reason.
+	bool valid() const { return valid_; }
+	// High-water mark of the arena: what the largest box so far needed.
+	size_t arenaUsed() const { return arena_.highWater(); }
+	size_t arenaCapacity() const { return arena_.capacity(); }
+
+	// The boxes estimated until endFrame() share budgetMs (<= 0: unlimited).
+	void beginFrame(int boxes, float budgetMs);
+	void endFrame();
+
+	EstimatorStats stats() const;
 
 	// Hypotheses are reported to the observer (nullptr: none). Not owned.
 	void setObserver(EstimateObserver *observer) { observer_ = observer; }
@@ -128,6 +168,20 @@ public:
 			      const EstimatorConfig &config);
 
 private:
+	// Per estimate() call: starts the box (and a frame of its own when none
+	// was begun), releases the box's scratch and closes the box at exit.
+	class BoxScope
+	{
+	public:
+		BoxScope(PoseEstimator &e, const EstimatorConfig &config);
+		~BoxScope();
+
+	private:
+		PoseEstimator &e_;
+		ArenaScope scratch_;
+		bool ownFrame_;
+	};
+
 	struct Hypothesis {
 		Pose pose; // virtual camera frame
 		HypothesisScore score;
@@ -152,32 +206,54 @@ private:
 	void maskToHypothesis(const HypothesisScore &s, const EstimatorConfig &config);
 	void maskToRange(float lo, float hi);
 
+	// Members only, no arena: for arenaBytes().
+	PoseEstimator(const EstimatorLimits &limits, const Clock *clock, int);
+
+	template<typename A>
+	bool carvePersistent(A &arena);
+	template<typename A>
+	bool carveBox(A &arena, size_t pixels);
+	bool refinementFits(const EstimatorConfig &config);
+	bool icpFits();
+
 	EstimatorLimits limits_;
+	Arena arena_;
+	bool valid_ = false;
+	size_t persistentBytes_ = 0;
 	IbsFitter fitter_;
 	PartExtractor extractor_;
 	DepthRenderer renderer_;
 
-	std::vector<float> observed_; // virtual crop
-	std::vector<float> working_;  // masked crop (Eq. 10)
-	std::vector<float> render_;
-	ImageView<float> observedView_, workingView_, renderView_;
+	SteadyClock steadyClock_;
+	StageTimer timer_;
+	StageCostModel costs_;
+	FrameBudget budget_;
+	uint64_t iterationsRun_ = 0, budgetStops_ = 0, icpSkipped_ = 0;
+	EstimatorPeaks peaks_;
 
-	std::vector<CloudPoint> cloud_;
-	std::vector<Eigen::Vector3f> unit_, normals_;
-	std::vector<ControlPoint> active_;
-	std::vector<Part> parts_;
-	std::vector<PartCp> pool_;
-	std::vector<float> hist_;
-	std::vector<CastVote> votes_;
-	std::vector<float> modeScratch_;
-	std::vector<Eigen::Vector3f> seeds_;
-	std::vector<PoseMode> modes_;
-	std::vector<int> windowHist_;
-	std::vector<DepthWindow> windows_;
-	std::vector<Hypothesis> kept_; // best distinct hypotheses, by score
+	// Persistent (sized from the limits).
+	std::span<float> observed_; // virtual crop
+	std::span<ControlPoint> active_;
+	std::span<Part> parts_;
+	std::span<PartCp> pool_;
+	std::span<float> hist_;
+	std::span<CastVote> votes_;
+	std::span<float> modeScratch_;
+	std::span<Eigen::Vector3f> seeds_;
+	std::span<PoseMode> modes_;
+	std::span<int> windowHist_;
+	std::span<DepthWindow> windows_;
+	std::span<Hypothesis> kept_; // best distinct hypotheses, by score
 	size_t keptCount_ = 0;
 	Eigen::Matrix3d cropRotation_ = Eigen::Matrix3d::Identity();
 	EstimateObserver *observer_ = nullptr;
+
+	// Per box (sized to its window, released after it).
+	std::span<float> working_;  // masked crop (Eq. 10)
+	std::span<float> render_;
+	std::span<CloudPoint> cloud_;
+	std::span<Eigen::Vector3f> unit_, normals_;
+	ImageView<float> observedView_, workingView_, renderView_;
 };
 
 } // namespace ihf

@@ -8,11 +8,11 @@
 
 namespace ihf {
 
-Expected<VirtualCrop> makeVirtualCrop(ImageView<const float> depth, const CameraIntrinsics &K,
-				      const PixelBox &box, std::span<float> buffer)
+CropStatus makeVirtualCrop(ImageView<const float> depth, const CameraIntrinsics &K,
+			   const PixelBox &box, std::span<float> buffer, VirtualCrop &out)
 {
-	if (box.w <= 0 || box.h <= 0)
-		return makeError(Errc::kInvalidArgument, "empty box");
+	if (box.w <= 0 || box.h <= 0 || buffer.empty())
+		return CropStatus::kEmptyBox;
 	PixelBox c;
 	c.x = std::max(box.x, 0);
 	c.y = std::max(box.y, 0);
@@ -21,9 +21,10 @@ Expected<VirtualCrop> makeVirtualCrop(ImageView<const float> depth, const Camera
 	c.w = x1 - c.x;
 	c.h = y1 - c.y;
 	if (c.w <= 0 || c.h <= 0)
-		return makeError(Errc::kOutOfRange, "box outside the image");
+		return CropStatus::kOutsideImage;
 
-	VirtualCrop crop;
+	VirtualCrop &crop = out;
+	crop = VirtualCrop();
 	crop.clippedBox = c;
 	const Eigen::Vector3d ray((c.x + 0.5 * (c.w - 1) - K.cx) / K.fx,
 				  (c.y + 0.5 * (c.h - 1) - K.cy) / K.fy, 1.0);
@@ -84,7 +85,7 @@ Expected<VirtualCrop> makeVirtualCrop(ImageView<const float> depth, const Camera
 		}
 	}
 	crop.validPixels = valid;
-	return crop;
+	return CropStatus::kOk;
 }
 
 } // namespace ihf

@@ -14,11 +14,11 @@
 // downsampling factor), so the box is processed at lower resolution rather
 // than rejected.
 
+#include <cstdint>
 #include <span>
 
 #include <Eigen/Core>
 
-#include "core/common/expected.h"
 #include "core/common/image.h"
 #include "core/features/cloud_point.h"
 #include "core/geometry/camera_intrinsics.h"
@@ -34,9 +34,16 @@ struct VirtualCrop {
 	PixelBox clippedBox;         // the box clipped to the frame
 };
 
-// buffer must hold maxPixels floats. Errors: kOutOfRange when the box does
-// not overlap the frame, kInvalidArgument when it is empty.
-Expected<VirtualCrop> makeVirtualCrop(ImageView<const float> depth, const CameraIntrinsics &K,
-				      const PixelBox &box, std::span<float> buffer);
+enum class CropStatus : uint8_t {
+	kOk,
+	kEmptyBox,     // zero width or height
+	kOutsideImage, // no overlap with the frame
+};
+
+// The window is at most buffer.size() pixels (the downsampling policy
+// above). On kOk, out describes the crop, its depth a view into buffer. A
+// status rather than an Expected: the frame path builds no error strings.
+CropStatus makeVirtualCrop(ImageView<const float> depth, const CameraIntrinsics &K,
+			   const PixelBox &box, std::span<float> buffer, VirtualCrop &out);
 
 } // namespace ihf

@@ -26,13 +26,47 @@ uint32_t mixIndex(int32_t index)
 
 } // namespace
 
+template<typename A>
+bool PartExtractor::carve(A &arena, const PartLimits &limits)
+{
+	const size_t cps = static_cast<size_t>(std::max(limits.maxControlPoints, 0));
+	return arenaTake(arena, pixelIndex_, static_cast<size_t>(std::max(limits.maxBoxPixels, 0))) &&
+	       arenaTake(arena, projected_, cps) && arenaTake(arena, order_, cps);
+}
+
+size_t PartExtractor::arenaBytes(const PartLimits &limits)
+{
+	ArenaSizer sizer;
+	PartExtractor scratch;
+	scratch.carve(sizer, limits);
+	return sizer.bytes;
+}
+
 void PartExtractor::reserve(const PartLimits &limits)
 {
-	limits_ = limits;
-	pixelIndex_.assign(static_cast<size_t>(std::max(limits.maxBoxPixels, 0)), -1);
-	projected_.resize(static_cast<size_t>(std::max(limits.maxControlPoints, 0)));
-	order_.resize(projected_.size());
+	auto arena = Arena::create(arenaBytes(limits));
+	if (!arena) {
+		*this = PartExtractor();
+		return;
+	}
+	own_ = std::move(*arena);
+	(void)reserve(limits, own_);
+}
+
+Status PartExtractor::reserve(const PartLimits &limits, Arena &arena)
+{
 	prepared_ = false;
+	orderReady_ = false;
+	if (!carve(arena, limits)) {
+		limits_ = PartLimits{0, 0, 0};
+		pixelIndex_ = {};
+		projected_ = {};
+		order_ = {};
+		return makeError(Errc::kCapacity, "PartExtractor: arena too small for the PartLimits");
+	}
+	limits_ = limits;
+	std::fill(pixelIndex_.begin(), pixelIndex_.end(), -1);
+	return {};
 }
 
 Status PartExtractor::prepare(const PartSource &source)

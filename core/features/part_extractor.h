@@ -16,12 +16,13 @@
 //
 // prepare() builds a pixel -> point map over the cloud's box and projects the
 // control points once per frame; scratch is sized by reserve() and nothing is
-// allocated afterwards. The spans given to prepare() must outlive extraction.
+// allocated afterwards (the scratch lives in an arena: the extractor's own,
+// or one shared with the rest of the frame path). The spans given to
+// prepare() must outlive extraction.
 
 #include <array>
 #include <cstdint>
 #include <span>
-#include <vector>
 
 #include <Eigen/Core>
 
@@ -32,6 +33,7 @@
 #include "core/features/unit_cube_frame.h"
 #include "core/geometry/camera_intrinsics.h"
 #include "core/ibs/control_point.h"
+#include "core/runtime/arena.h"
 
 namespace ihf {
 
@@ -56,8 +58,13 @@ public:
 	PartExtractor() = default;
 	explicit PartExtractor(const PartLimits &limits) { reserve(limits); }
 
-	// Sizes the scratch (allocates); not per frame.
+	// Sizes the scratch in an arena of the extractor's own (allocates); not
+	// per frame.
 	void reserve(const PartLimits &limits);
+	// The same, carved from a shared arena that must outlive the extractor
+	// (kCapacity if it is too small; the extractor then has no capacity).
+	Status reserve(const PartLimits &limits, Arena &arena);
+	static size_t arenaBytes(const PartLimits &limits);
 	const PartLimits &limits() const { return limits_; }
 
 	// Per frame: indexes the cloud's pixels and projects the control points.
@@ -87,16 +94,20 @@ private:
 	void dataRange(const Part &part, const PartConfig &cfg, int32_t &count, float &zLo,
 		       float &zHi) const;
 
+	template<typename A>
+	bool carve(A &arena, const PartLimits &limits);
+
 	PartLimits limits_;
+	Arena own_; // used by reserve(limits) only
 	PartSource src_;
 	PixelBox box_;
 	bool prepared_ = false;
-	std::vector<int32_t> pixelIndex_;        // box pixel -> cloud index, -1 if none
-	std::vector<Eigen::Vector2f> projected_; // control point -> pixel (fixed parts)
+	std::span<int32_t> pixelIndex_;        // box pixel -> cloud index, -1 if none
+	std::span<Eigen::Vector2f> projected_; // control point -> pixel (fixed parts)
 	void buildOrder(PartCap mode);
 
 	static constexpr int kOrderBits = 12;
-	std::vector<int32_t> order_;             // control points in cap priority order
+	std::span<int32_t> order_;             // control points in cap priority order
 	std::array<int32_t, (1 << kOrderBits) + 1> bucketStart_{};
 	PartCap orderMode_ = PartCap::kUniform;
 	bool orderReady_ = false;

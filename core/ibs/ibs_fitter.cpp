@@ -8,36 +8,57 @@
 
 namespace ihf {
 
-void IbsFitter::reserve(const IbsLimits &limits)
+template<typename A>
+bool IbsFitter::carve(A &arena, const IbsLimits &limits)
 {
-	limits_ = limits;
 	const size_t maxN = static_cast<size_t>(std::max(limits.maxN, 4));
-	map_.assign(maxN * maxN * maxN, -1);
-	constraints_.resize(3 * static_cast<size_t>(std::max(limits.maxPoints, 0)));
-	residual_.resize(constraints_.size());
-
+	const size_t constraints = 3 * static_cast<size_t>(std::max(limits.maxPoints, 0));
 	const size_t active = static_cast<size_t>(std::max(limits.maxActive, 0));
-	active_.resize(active);
-	neighbours_.resize(6 * active);
-	for (auto *v : {&x_, &r_, &z_, &p_, &q_, &diag_})
-		v->resize(active);
-
 	// The coarsest-but-one level has at most ceil(C / 2) cells.
 	const size_t coarseNodes = (maxN - 3 + 1) / 2 + 3;
-	coarseNum_.resize(coarseNodes * coarseNodes * coarseNodes);
-	coarseDen_.resize(coarseNum_.size());
+	const size_t coarse = coarseNodes * coarseNodes * coarseNodes;
+	bool ok = arenaTake(arena, map_, maxN * maxN * maxN) &&
+		  arenaTake(arena, constraints_, constraints) &&
+		  arenaTake(arena, residual_, constraints) && arenaTake(arena, active_, active) &&
+		  arenaTake(arena, neighbours_, 6 * active);
+	for (auto *v : {&x_, &r_, &z_, &p_, &q_, &diag_})
+		ok = ok && arenaTake(arena, *v, active);
+	return ok && arenaTake(arena, coarseNum_, coarse) && arenaTake(arena, coarseDen_, coarse);
+}
 
+size_t IbsFitter::arenaBytes(const IbsLimits &limits)
+{
+	ArenaSizer sizer;
+	IbsFitter scratch;
+	scratch.carve(sizer, limits);
+	return sizer.bytes;
+}
+
+void IbsFitter::reserve(const IbsLimits &limits)
+{
+	auto arena = Arena::create(arenaBytes(limits));
+	if (!arena) {
+		*this = IbsFitter();
+		return;
+	}
+	own_ = std::move(*arena);
+	(void)reserve(limits, own_);
+}
+
+Status IbsFitter::reserve(const IbsLimits &limits, Arena &arena)
+{
 	activeCount_ = 0;
 	constraintCount_ = 0;
 	fitValid_ = false;
-}
-
-size_t IbsFitter::reservedBytes() const
-{
-	return map_.size() * sizeof(int32_t) + constraints_.size() * sizeof(Constraint) +
-	       residual_.size() * sizeof(float) + active_.size() * sizeof(int32_t) +
-	       neighbours_.size() * sizeof(int32_t) + 6 * x_.size() * sizeof(float) +
-	       2 * coarseNum_.size() * sizeof(float);
+	if (!carve(arena, limits)) {
+		limits_ = IbsLimits{0, 0, 0};
+		map_ = {};
+		constraints_ = {};
+		return makeError(Errc::kCapacity, "IbsFitter: arena too small for the IbsLimits");
+	}
+	limits_ = limits;
+	std::fill(map_.begin(), map_.end(), -1);
+	return {};
 }
 
 void IbsFitter::resetMap()

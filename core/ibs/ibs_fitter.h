@@ -10,12 +10,13 @@
 // Memory is fixed at reserve(): a dense node -> active-slot map of maxN^3
 // int32 (4 MB at N = 100; only the entries a fit touched are reset, so it is
 // never cleared whole), per-constraint tables for 3 * maxPoints equations and
-// per-active arrays for maxActive nodes. fit() allocates nothing.
+// per-active arrays for maxActive nodes. fit() allocates nothing. The
+// scratch lives in an arena: the fitter's own, or one shared with the rest of
+// the frame path (reserve(limits, arena)).
 
 #include <cstddef>
 #include <cstdint>
 #include <span>
-#include <vector>
 
 #include <Eigen/Core>
 
@@ -23,6 +24,7 @@
 #include "core/ibs/bspline_basis.h"
 #include "core/ibs/control_point.h"
 #include "core/ibs/ibs_config.h"
+#include "core/runtime/arena.h"
 
 namespace ihf {
 
@@ -32,10 +34,16 @@ public:
 	IbsFitter() = default;
 	explicit IbsFitter(const IbsLimits &limits) { reserve(limits); }
 
-	// Sizes all scratch for the limits (allocates); not per frame.
+	// Sizes all scratch for the limits in an arena of the fitter's own
+	// (allocates); not per frame.
 	void reserve(const IbsLimits &limits);
+	// The same, carved from a shared arena (kCapacity if it is too small;
+	// the fitter then has no capacity). The arena must outlive the fitter.
+	Status reserve(const IbsLimits &limits, Arena &arena);
+	// Arena bytes reserve() takes for the limits.
+	static size_t arenaBytes(const IbsLimits &limits);
 	const IbsLimits &limits() const { return limits_; }
-	size_t reservedBytes() const;
+	size_t reservedBytes() const { return arenaBytes(limits_); }
 
 	// Fits points (unit cube) with normals (unit length, or zero when
 	// unknown: such points only give f = 0). Writes the active control points
@@ -68,6 +76,8 @@ private:
 		float value;
 	};
 
+	template<typename A>
+	bool carve(A &arena, const IbsLimits &limits);
 	void resetMap();
 	void addConstraint(const Eigen::Vector3f &pos, float value);
 	Status buildConstraints(std::span<const Eigen::Vector3f> points,
@@ -85,21 +95,22 @@ private:
 
 	IbsLimits limits_;
 	Lattice lattice_;
+	Arena own_; // used by reserve(limits) only
 
-	std::vector<int32_t> map_;     // node index -> active slot, -1 if inactive
-	std::vector<Constraint> constraints_;
-	std::vector<float> residual_;  // per constraint, multilevel BA
+	std::span<int32_t> map_;     // node index -> active slot, -1 if inactive
+	std::span<Constraint> constraints_;
+	std::span<float> residual_;  // per constraint, multilevel BA
 	int constraintCount_ = 0;
 	bool fitValid_ = false;
 
 	// Per active slot.
-	std::vector<int32_t> active_;  // node index, sorted
-	std::vector<int32_t> neighbours_; // 6 per slot: -x +x -y +y -z +z, -1 if none
-	std::vector<float> x_, r_, z_, p_, q_, diag_;
+	std::span<int32_t> active_;  // node index, sorted
+	std::span<int32_t> neighbours_; // 6 per slot: -x +x -y +y -z +z, -1 if none
+	std::span<float> x_, r_, z_, p_, q_, diag_;
 	int activeCount_ = 0;
 
 	// Dense coarse lattices of the multilevel BA (levels below the finest).
-	std::vector<float> coarseNum_, coarseDen_;
+	std::span<float> coarseNum_, coarseDen_;
 };
 
 } // namespace ihf

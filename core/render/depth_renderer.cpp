@@ -355,14 +355,43 @@ DepthRenderer::DepthRenderer(size_t maxVertices)
 	reserve(maxVertices);
 }
 
+template<typename A>
+bool DepthRenderer::carve(A &arena, size_t maxVertices)
+{
+	return arenaTake(arena, screen_, maxVertices) && arenaTake(arena, flags_, maxVertices) &&
+	       arenaTake(arena, camera_, maxVertices);
+}
+
+size_t DepthRenderer::arenaBytes(size_t maxVertices)
+{
+	ArenaSizer sizer;
+	DepthRenderer scratch;
+	scratch.carve(sizer, maxVertices);
+	return sizer.bytes;
+}
+
 void DepthRenderer::reserve(size_t maxVertices)
 {
-	if (maxVertices > capacity_) {
-		screen_.resize(maxVertices);
-		flags_.resize(maxVertices);
-		camera_.resize(maxVertices);
-		capacity_ = maxVertices;
+	if (maxVertices <= capacity_)
+		return;
+	auto arena = Arena::create(arenaBytes(maxVertices));
+	if (!arena)
+		return; // keeps the old capacity; render() reports kCapacity
+	own_ = std::move(*arena);
+	(void)reserve(maxVertices, own_);
+}
+
+Status DepthRenderer::reserve(size_t maxVertices, Arena &arena)
+{
+	if (!carve(arena, maxVertices)) {
+		screen_ = {};
+		flags_ = {};
+		camera_ = {};
+		capacity_ = 0;
+		return makeError(Errc::kCapacity, "DepthRenderer: arena too small for the vertex limit");
 	}
+	capacity_ = maxVertices;
+	return {};
 }
 
 Expected<RenderStats> DepthRenderer::render(const Mesh &mesh, const Pose &pose, const CameraIntrinsics &K,

@@ -12,16 +12,18 @@
 // reaching behind the camera renders correctly. Drawing several meshes into
 // the same buffers composes a scene: each call depth-tests against what is
 // already there. No allocation per call: the renderer keeps scratch space
-// sized by reserve() for a maximum vertex count.
+// sized by reserve() for a maximum vertex count, in an arena of the
+// renderer's own or one shared with the rest of the frame path.
 
 #include <cstdint>
-#include <vector>
+#include <span>
 
 #include "core/common/expected.h"
 #include "core/common/image.h"
 #include "core/geometry/camera_intrinsics.h"
 #include "core/geometry/mesh.h"
 #include "core/geometry/pose.h"
+#include "core/runtime/arena.h"
 
 namespace ihf {
 
@@ -51,8 +53,13 @@ public:
 
 	explicit DepthRenderer(size_t maxVertices = 0);
 
-	// Grows the scratch space (allocates); call at start-up, not per frame.
+	// Grows the scratch space in an arena of the renderer's own
+	// (allocates); call at start-up, not per frame.
 	void reserve(size_t maxVertices);
+	// Scratch for maxVertices carved from a shared arena that must outlive
+	// the renderer (kCapacity if it is too small; capacity is then 0).
+	Status reserve(size_t maxVertices, Arena &arena);
+	static size_t arenaBytes(size_t maxVertices);
 	size_t capacity() const { return capacity_; }
 
 	// Renders mesh under pose with intrinsics K into depth (mm). If label is
@@ -78,9 +85,13 @@ private:
 		int32_t sx, sy;
 	};
 
-	std::vector<ScreenVertex> screen_;
-	std::vector<uint8_t> flags_;
-	std::vector<Eigen::Vector3f> camera_; // camera coordinates, mm
+	template<typename A>
+	bool carve(A &arena, size_t maxVertices);
+
+	Arena own_; // used by reserve(maxVertices) only
+	std::span<ScreenVertex> screen_;
+	std::span<uint8_t> flags_;
+	std::span<Eigen::Vector3f> camera_; // camera coordinates, mm
 	size_t capacity_ = 0;
 	float near_ = 1.0f;
 };

@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: MIT
+#include "core/runtime/stage_timer.h"
+
+#include <cmath>
+
+namespace ihf {
+
+const char *stageName(Stage stage)
+{
+	switch (stage) {
+	case Stage::kCrop: return "crop";
+	case Stage::kCloud: return "cloud";
+	case Stage::kNormalise: return "normalise";
+	case Stage::kIbsFit: return "ibs_fit";
+	case Stage::kParts: return "parts";
+	case Stage::kHocp: return "hocp";
+	case Stage::kForest: return "forest";
+	case Stage::kModes: return "vote_modes";
+	case Stage::kScore: return "render_score";
+	case Stage::kIcp: return "icp";
+	case Stage::kCount: break;
+	}
+	return "unknown";
+}
+
+StageTotals StageTimer::totals() const
+{
+	StageTotals t{};
+	for (int i = 0; i < kStageCount; ++i)
+		t[i] = counters_[i].totalNs;
+	return t;
+}
+
+void StageCostModel::observe(Stage stage, int64_t ns)
+{
+	const int i = static_cast<int>(stage);
+	if (!seen_[i]) {
+		average_[i] = static_cast<double>(ns);
+		seen_[i] = true;
+	} else {
+		average_[i] += alpha_ * (static_cast<double>(ns) - average_[i]);
+	}
+}
+
+void StageCostModel::observe(const StageTotals &before, const StageTotals &after)
+{
+	for (int i = 0; i < kStageCount; ++i)
+		if (after[i] != before[i])
+			observe(static_cast<Stage>(i), after[i] - before[i]);
+}
+
+int64_t StageCostModel::average(Stage stage) const
+{
+	return static_cast<int64_t>(std::ceil(average_[static_cast<int>(stage)]));
+}
+
+int64_t StageCostModel::predict(std::initializer_list<Stage> stages) const
+{
+	int64_t sum = 0;
+	for (Stage s : stages)
+		sum += average(s);
+	return sum;
+}
+
+} // namespace ihf

@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// Per-stage time counters of the inference path (PX4-style perf counters:
+// fixed at start-up, begin/end around each stage). StageTimer works as a lap
+// timer: lap(stage) charges the time since the previous lap to `stage`, so a
+// sequence of stages costs one clock read per stage.
+//
+// StageCostModel keeps a running average (exponential, per stage) of what a
+// stage cost per refinement iteration, which is how the frame budget
+// predicts the next iteration before starting it.
+
+#include <array>
+#include <cstdint>
+#include <initializer_list>
+
+#include "core/runtime/clock.h"
+
+namespace ihf {
+
+enum class Stage : uint8_t {
+	kCrop,      // virtual on-axis crop of the box
+	kCloud,     // Eq. 10 mask + back-projection with normals
+	kNormalise, // unit-cube frame and normalised points (Eq. 1-2)
+	kIbsFit,    // 3L implicit B-spline fit
+	kParts,     // part extraction
+	kHocp,      // parts to mm + HoCP keys
+	kForest,    // forest walk, incl. the per-node depth-checked histograms
+	kModes,     // vote mode finding
+	kScore,     // rendering and scoring the hypotheses
+	kIcp,       // final ICP polish and its score
+	kCount,
+};
+
+constexpr int kStageCount = static_cast<int>(Stage::kCount);
+
+const char *stageName(Stage stage);
+
+struct StageCounter {
+	uint64_t calls = 0;
+	int64_t totalNs = 0;
+	int64_t maxNs = 0;
+};
+
+using StageTotals = std::array<int64_t, kStageCount>;
+
+class StageTimer
+{
+public:
+	explicit StageTimer(const Clock &clock) : clock_(&clock) {}
+
+	void setClock(const Clock &clock) { clock_ = &clock; }
+	const Clock &clock() const { return *clock_; }
+
+	// Starts lap timing; returns the time read.
+	int64_t start()
+	{
+		last_ = clock_->nowNs();
+		return last_;
+	}
+
+	// Charges the time since the last lap (or start) to stage; returns now.
+	int64_t lap(Stage stage)
+	{
+		const int64_t now = clock_->nowNs();
+		const int64_t dt = now - last_;
+		StageCounter &c = counters_[static_cast<int>(stage)];
+		c.calls++;
+		c.totalNs += dt;
+		if (dt > c.maxNs)
+			c.maxNs = dt;
+		last_ = now;
+		return now;
+	}
+
+	// Reads the clock without charging anything (the time still goes to
+	// the next lap).
+	int64_t now() const { return clock_->nowNs(); }
+
+	// Time of the last lap (no new read).
+	int64_t last() const { return last_; }
+
+	const std::array<StageCounter, kStageCount> &counters() const { return counters_; }
+	StageTotals totals() const;
+	void reset() { counters_ = {}; }
+
+private:
+	const Clock *clock_;
+	int64_t last_ = 0;
+	std::array<StageCounter, kStageCount> counters_{};
+};
+
+class StageCostModel
+{
+public:
+	// alpha: weight of the newest observation in the running average.
+	explicit StageCostModel(double alpha = 0.3) : alpha_(alpha) {}
+
+	// One iteration's cost per stage: the difference of two totals()
+	// snapshots. Stages that did not run in it are left alone.
+	void observe(const StageTotals &before, const StageTotals &after);
+	void observe(Stage stage, int64_t ns);
+
+	// Predicted cost of running the given stages once more (0 for a stage
+	// never observed).
+	int64_t predict(std::initializer_list<Stage> stages) const;
+	int64_t average(Stage stage) const;
+
+private:
+	double alpha_;
+	std::array<double, kStageCount> average_{};
+	std::array<bool, kStageCount> seen_{};
+};
+
+} // namespace ihf

@@ -1,0 +1,21 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// Heap accounting for the zero-allocation test. The executable that links
+// alloc_interpose.cpp defines malloc, calloc, realloc, free, the aligned
+// variants and every global operator new/delete itself. With glibc a
+// definition in the executable takes precedence over libc.so's for every
+// caller (libstdc++'s operator new included, which would otherwise reach
+// libc directly); the replacements forward to glibc's __libc_* entry points
+// and count each allocating call. (__malloc_hook is gone since glibc 2.34,
+// so interposition is the way.)
+
+#include <cstdint>
+
+namespace ihf::test {
+
+// Allocating calls (malloc, calloc, realloc, aligned allocations and
+// operator new, which goes through malloc) since the program started.
+uint64_t heapAllocations();
+
+} // namespace ihf::test

@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: MIT
+// `ihf estimate` reports the runtime: per-stage times, budget counters and
+// arena use on stderr and with --stats-json; the [budget] key of the
+// configuration is read and checked.
+
+#include <fstream>
+#include <iterator>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/model/forest_file.h"
+#include "tests/runtime/small_model.h"
+
+namespace ihf {
+namespace {
+
+class EstimateCli : public ::testing::Test
+{
+protected:
+	static void SetUpTestSuite()
+	{
+		dir_ = new std::filesystem::path(test::freshTempDir("estimate_cli"));
+		test::SmallModel duck = test::trainSmallModel(9, 5, 20, 2);
+		ASSERT_TRUE(duck.model);
+		ASSERT_TRUE(saveModelFile(*dir_ / "duck.ihf", duck.model->params(), duck.model->mesh(),
+					  duck.model->forest())
+				    .ok());
+		// The real frame's duck, twice (a frame of two boxes), and a box
+		// for an object without a forest.
+		std::ofstream boxes(*dir_ / "boxes.json");
+		boxes << R"([{"scene_id": 2, "image_id": 3, "category_id": 9, "score": 1, "bbox": [333, 298, 64, 49], "time": 0},
+			     {"scene_id": 2, "image_id": 3, "category_id": 9, "score": 1, "bbox": [335, 300, 62, 47], "time": 0},
+			     {"scene_id": 2, "image_id": 3, "category_id": 5, "score": 1, "bbox": [376, 226, 60, 91], "time": 0}])";
+	}
+	static void TearDownTestSuite() { delete dir_; }
+
+	static std::string args(const std::string &extra)
+	{
+		return "estimate --dataset '" + test::lmoDir().string() + "' --boxes '" + (*dir_ / "boxes.json").string() +
+		       "' --forest 9='" + (*dir_ / "duck.ihf").string() + "' --out '" + (*dir_ / "r.csv").string() +
+		       "' --quiet " + extra;
+	}
+
+	static std::filesystem::path *dir_;
+};
+
+std::filesystem::path *EstimateCli::dir_ = nullptr;
+
+TEST_F(EstimateCli, ReportsStagesBudgetAndArena)
+{
+	const auto json = *dir_ / "stats.json";
+	// One vote pass per iteration and one ICP polish per box, so that the
+	// stage calls below can be counted exactly.
+	const auto cfg = *dir_ / "single_pass.toml";
+	std::ofstream(cfg) << "[refinement]\ndepth_windows = 0\n[icp]\ncandidates = 1\n";
+	auto r = test::runIhf(args("--iterations 1 --budget-ms 0 --config '" + cfg.string() + "' --stats-json '" +
+				   json.string() + "'"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("time per stage"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("arena used"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("no frame budget: 1 frames, 2 boxes, 2 refinement iterations"), std::string::npos)
+		<< r.output;
+
+	std::ifstream in(json);
+	ASSERT_TRUE(in.good());
+	auto j = nlohmann::json::parse(in);
+	EXPECT_EQ(j["budget"]["boxes"], 2);
+	EXPECT_EQ(j["budget"]["frames"], 1);
+	EXPECT_EQ(j["budget"]["refinement_iterations"], 2);
+	EXPECT_EQ(j["stages"]["ibs_fit"]["calls"], 4);   // 2 boxes x (k = 0, 1)
+	EXPECT_EQ(j["stages"]["cloud"]["calls"], 6);     // and one for each ICP
+	EXPECT_EQ(j["stages"]["icp"]["calls"], 2);
+	EXPECT_EQ(j["box_ms"]["count"], 2);
+	const size_t used = j["arena"]["used_bytes"], capacity = j["arena"]["capacity_bytes"];
+	EXPECT_GT(used, static_cast<size_t>(j["arena"]["persistent_bytes"]));
+	EXPECT_LE(used, capacity);
+	EXPECT_GT(j["limits_used"]["votes"][0].get<int>(), 0);
+}
+
+TEST_F(EstimateCli, BudgetFromTheConfiguration)
+{
+	const auto cfg = *dir_ / "tiny_budget.toml";
+	std::ofstream(cfg) << "[budget]\nframe_ms = 0.01\n";
+	auto r = test::runIhf(args("--iterations 3 --config '" + cfg.string() + "'"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	// Far too little time: both boxes keep their initial registration.
+	EXPECT_NE(r.output.find("budget 0.0 ms per frame: 1 frames, 2 boxes, 0 refinement iterations, 2 boxes cut short, "
+				"2 ICP skipped, 1 frame overruns, 2 box overruns"),
+		  std::string::npos)
+		<< r.output;
+}
+
+TEST_F(EstimateCli, ABadBudgetValueNamesFileAndKey)
+{
+	const auto cfg = *dir_ / "bad_budget.toml";
+	std::ofstream(cfg) << "[budget]\nframe_ms = \"fast\"\n";
+	auto r = test::runIhf(args("--config '" + cfg.string() + "'"));
+	EXPECT_EQ(r.exitCode, 1) << r.output;
+	EXPECT_NE(r.output.find("bad_budget.toml"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("frame_ms"), std::string::npos) << r.output;
+}
+
+} // namespace
+} // namespace ihf

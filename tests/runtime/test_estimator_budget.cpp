@@ -1,0 +1,217 @@
+// SPDX-License-Identifier: MIT
+// The frame budget and stage counters of PoseEstimator, with a step clock
+// (every read advances time by 1 ms, so timing follows from the code path
+// alone): the budget is respected, a cut-short refinement returns exactly
+// what a run with that many iterations returns, the iteration bound holds,
+// overruns are counted, boxes share the frame. Also the arena: its size
+// matches the sizing function and the high-water mark is the persistent
+// part plus the largest box's scratch.
+
+#include <gtest/gtest.h>
+
+#include "core/estimation/pose_estimator.h"
+#include "tests/runtime/small_model.h"
+
+namespace ihf {
+namespace {
+
+constexpr int64_t kMs = 1000000;
+
+class EstimatorBudget : public ::testing::Test
+{
+protected:
+	static void SetUpTestSuite()
+	{
+		model_ = new test::SmallModel(test::trainSmallModel(1, 11, 20, 2));
+		depth_ = new DepthImageMm(640, 480, 0.0f);
+		ASSERT_TRUE(model_->model);
+		box_ = test::renderInto(*model_->model, test::viewAt(*model_, 37, {60, -40, 800}), *depth_);
+	}
+	static void TearDownTestSuite()
+	{
+		delete model_;
+		delete depth_;
+	}
+
+	static EstimatorConfig config(int iterations, float budgetMs, bool icp = false)
+	{
+		EstimatorConfig c;
+		c.iterations = iterations;
+		c.frameBudgetMs = budgetMs;
+		c.icp = icp;
+		// One vote pass per iteration and one polish, so stage calls can
+		// be counted exactly.
+		c.depthWindows = 0;
+		c.icpCandidates = 1;
+		return c;
+	}
+
+	PoseEstimate run(PoseEstimator &e, const EstimatorConfig &c)
+	{
+		return e.estimate(depth_->view(), test::kKinect, box_, *model_->model, c);
+	}
+
+	static test::SmallModel *model_;
+	static DepthImageMm *depth_;
+	static PixelBox box_;
+};
+
+test::SmallModel *EstimatorBudget::model_ = nullptr;
+DepthImageMm *EstimatorBudget::depth_ = nullptr;
+PixelBox EstimatorBudget::box_;
+
+TEST_F(EstimatorBudget, IterationBoundHonouredWhenTimeIsAmple)
+{
+	test::StepClock clock(kMs);
+	PoseEstimator e({}, &clock);
+	PoseEstimate r = run(e, config(3, 1e6f, true));
+	ASSERT_TRUE(r.found) << r.reason;
+	EXPECT_EQ(r.iterationsDone, 3);
+	EXPECT_FALSE(r.budgetStopped);
+	EXPECT_FALSE(r.icpSkipped);
+	EstimatorStats s = e.stats();
+	EXPECT_EQ(s.iterations, 3u);
+	EXPECT_EQ(s.budgetStops, 0u);
+	EXPECT_EQ(s.frameOverruns + s.boxOverruns, 0u);
+	// One cloud per iteration plus the polish's; one score per iteration.
+	EXPECT_EQ(s.stages[static_cast<int>(Stage::kCloud)].calls, 5u);
+	EXPECT_EQ(s.stages[static_cast<int>(Stage::kIbsFit)].calls, 4u);
+	EXPECT_EQ(s.stages[static_cast<int>(Stage::kScore)].calls, 4u);
+	EXPECT_EQ(s.stages[static_cast<int>(Stage::kIcp)].calls, 1u);
+	EXPECT_EQ(s.stages[static_cast<int>(Stage::kCrop)].calls, 1u);
+	// The counters account for the whole box: everything between the
+	// first read after beginFrame and the last lap.
+	int64_t total = 0;
+	for (const auto &c : s.stages)
+		total += c.totalNs;
+	EXPECT_EQ(total, s.worstFrameNs - kMs);
+}
+
+TEST_F(EstimatorBudget, BudgetRespectedAndRefinementCutShort)
+{
+	test::StepClock clock(kMs);
+	PoseEstimator e({}, &clock);
+	PoseEstimate r = run(e, config(50, 40.0f));
+	ASSERT_TRUE(r.found) << r.reason;
+	EXPECT_TRUE(r.budgetStopped);
+	EXPECT_GE(r.iterationsDone, 1);
+	EXPECT_LT(r.iterationsDone, 50);
+	EstimatorStats s = e.stats();
+	EXPECT_LE(s.worstFrameNs, 40 * kMs);
+	EXPECT_EQ(s.frameOverruns, 0u);
+	EXPECT_EQ(s.boxOverruns, 0u);
+	EXPECT_EQ(s.budgetStops, 1u);
+	// It did not stop early: an iteration costs 9 reads here (8 stage laps
+	// and the budget check), and at most the prediction's rounding is lost.
+	EXPECT_GT(s.worstFrameNs + 2 * 9 * kMs, 40 * kMs);
+}
+
+TEST_F(EstimatorBudget, CutShortReturnsTheBestSoFar)
+{
+	test::StepClock clock(kMs);
+	PoseEstimator e({}, &clock);
+	PoseEstimate cut = run(e, config(50, 40.0f));
+	ASSERT_TRUE(cut.found && cut.budgetStopped);
+
+	// The same box with exactly the iterations the budget allowed and no
+	// budget: the computation is the same, so is the answer.
+	PoseEstimator free;
+	PoseEstimate full = run(free, config(cut.iterationsDone, 0.0f));
+	ASSERT_TRUE(full.found);
+	EXPECT_FALSE(full.budgetStopped);
+	EXPECT_EQ(full.iterationsDone, cut.iterationsDone);
+	EXPECT_EQ(full.bestIteration, cut.bestIteration);
+	EXPECT_EQ(full.confidence, cut.confidence);
+	EXPECT_TRUE(full.pose.R == cut.pose.R);
+	EXPECT_TRUE(full.pose.t == cut.pose.t);
+}
+
+TEST_F(EstimatorBudget, OverrunCountedWhenTheInitialRegistrationDoesNotFit)
+{
+	test::StepClock clock(kMs);
+	PoseEstimator e({}, &clock);
+	PoseEstimate r = run(e, config(5, 3.0f, true));
+	ASSERT_TRUE(r.found) << r.reason; // the initial registration always runs
+	EXPECT_EQ(r.iterationsDone, 0);
+	EXPECT_TRUE(r.budgetStopped);
+	EXPECT_TRUE(r.icpSkipped);
+	EXPECT_FALSE(r.icpApplied);
+	EstimatorStats s = e.stats();
+	EXPECT_EQ(s.frameOverruns, 1u);
+	EXPECT_EQ(s.boxOverruns, 1u);
+	EXPECT_EQ(s.icpSkipped, 1u);
+	EXPECT_EQ(s.iterations, 0u);
+}
+
+TEST_F(EstimatorBudget, BoxesShareTheFrame)
+{
+	test::StepClock clock(kMs);
+	PoseEstimator e({}, &clock);
+	const EstimatorConfig c = config(50, 0.0f); // the frame's budget rules
+	e.beginFrame(2, 80.0f);
+	const int64_t frameStart = clock.peek();
+	PoseEstimate a = run(e, c);
+	const int64_t afterFirst = clock.peek();
+	PoseEstimate b = run(e, c);
+	e.endFrame();
+	ASSERT_TRUE(a.found && b.found);
+	EXPECT_TRUE(a.budgetStopped && b.budgetStopped);
+	// The first box kept to half the frame, the second used what was left.
+	EXPECT_LE(afterFirst - frameStart, 41 * kMs);
+	EstimatorStats s = e.stats();
+	EXPECT_EQ(s.frames, 1u);
+	EXPECT_EQ(s.boxes, 2u);
+	EXPECT_EQ(s.frameOverruns, 0u);
+	EXPECT_LE(s.worstFrameNs, 80 * kMs);
+	EXPECT_GT(s.worstFrameNs, 60 * kMs);
+}
+
+TEST_F(EstimatorBudget, ArenaMatchesItsSizingAndMeasuresTheLargestBox)
+{
+	EstimatorLimits limits;
+	PoseEstimator e(limits);
+	ASSERT_TRUE(e.valid());
+	EXPECT_EQ(e.arenaCapacity(), PoseEstimator::arenaBytes(limits));
+	const size_t persistent = e.stats().arenaPersistent;
+	EXPECT_EQ(e.arenaUsed(), persistent);
+	PoseEstimate r = run(e, config(1, 0.0f, true));
+	ASSERT_TRUE(r.found);
+	EstimatorStats s = e.stats();
+	const size_t px = static_cast<size_t>(s.peaks.windowPixels);
+	ASSERT_GT(px, 0u);
+	const size_t box = 2 * Arena::footprint<float>(px) + Arena::footprint<CloudPoint>(px) +
+			   2 * Arena::footprint<Eigen::Vector3f>(px);
+	EXPECT_EQ(s.arenaHighWater, persistent + box);
+	EXPECT_EQ(s.arenaPersistent, persistent); // the box's scratch was released
+	EXPECT_LE(s.arenaHighWater, s.arenaCapacity);
+	EXPECT_GT(s.peaks.parts, 0);
+	EXPECT_GT(s.peaks.votes, 0);
+	EXPECT_LE(s.peaks.votes, limits.maxVotes);
+}
+
+TEST_F(EstimatorBudget, LargeBoxesAreDownsampledToTheWindowLimit)
+{
+	EstimatorLimits limits;
+	limits.maxWindowPixels = 1500;
+	PoseEstimator e(limits);
+	ASSERT_TRUE(e.valid());
+	PoseEstimate r = run(e, config(1, 0.0f));
+	EXPECT_TRUE(r.found) << r.reason;
+	EXPECT_LE(e.stats().peaks.windowPixels, 1500);
+	EXPECT_GT(e.stats().peaks.windowPixels, 0);
+}
+
+TEST_F(EstimatorBudget, WithoutItsArenaTheEstimatorSaysSo)
+{
+	EstimatorLimits limits;
+	limits.maxParts = 1 << 30;
+	limits.maxPartControlPoints = 1 << 30; // 2^60 control points
+	PoseEstimator e(limits);
+	EXPECT_FALSE(e.valid());
+	PoseEstimate r = run(e, config(1, 0.0f));
+	EXPECT_FALSE(r.found);
+	EXPECT_STREQ(r.reason, "estimator has no memory (arena allocation failed)");
+}
+
+} // namespace
+} // namespace ihf

@@ -1,0 +1,237 @@
+// SPDX-License-Identifier: MIT
+// The frame path allocates nothing: 100 frames (the real LM-O frame and a
+// synthetic two-object render, alternating), each with several boxes of two
+// objects, run through PoseEstimator::estimate (virtual crop, initial
+// registration, k = 2 refinement iterations, ICP; half the frames under a
+// frame budget so that the cut-short paths run too, and bad boxes for the
+// "no pose" paths) while every heap allocation of the process is counted
+// (alloc_interpose.h) and Eigen's malloc is forbidden. The frame-path
+// sources are compiled into this executable with EIGEN_RUNTIME_NO_MALLOC and
+// assertions on (tests/runtime/CMakeLists.txt), so a hidden Eigen heap
+// allocation aborts the test. Self-checks prove both tripwires fire.
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <gtest/gtest.h>
+
+#include "core/dataset/bop_dataset.h"
+#include "core/estimation/pose_estimator.h"
+#include "tests/runtime/alloc_interpose.h"
+#include "tests/runtime/small_model.h"
+
+#ifndef EIGEN_RUNTIME_NO_MALLOC
+#error "this test must be compiled with EIGEN_RUNTIME_NO_MALLOC"
+#endif
+
+namespace ihf {
+namespace {
+
+struct FrameBox {
+	const ObjectModel *model;
+	PixelBox box;
+};
+
+struct Frame {
+	ImageView<const float> depth;
+	CameraIntrinsics K;
+	std::vector<FrameBox> boxes;
+};
+
+PixelBox enlarge(const std::array<int, 4> &b, double f)
+{
+	const double cx = b[0] + 0.5 * b[2], cy = b[1] + 0.5 * b[3];
+	const double w = b[2] * f, h = b[3] * f;
+	return {static_cast<int>(std::floor(cx - 0.5 * w)), static_cast<int>(std::floor(cy - 0.5 * h)),
+		static_cast<int>(std::ceil(w)), static_cast<int>(std::ceil(h))};
+}
+
+PixelBox shifted(PixelBox b, int dx, int dy)
+{
+	b.x += dx;
+	b.y += dy;
+	return b;
+}
+
+// Keeps the optimiser from eliding an allocation/free pair.
+void escape(void *p)
+{
+	asm volatile("" : : "g"(p) : "memory");
+}
+
+template<typename F>
+uint64_t allocationsOf(F &&f)
+{
+	const uint64_t before = test::heapAllocations();
+	f();
+	return test::heapAllocations() - before;
+}
+
+TEST(TripwireSelfCheck, AllocationsInTheWindowAreCounted)
+{
+	EXPECT_EQ(allocationsOf([] {
+			  int *p = new int(3);
+			  escape(p);
+			  delete p;
+		  }),
+		  1u);
+	EXPECT_EQ(allocationsOf([] {
+			  void *p = std::malloc(16);
+			  escape(p);
+			  std::free(p);
+		  }),
+		  1u);
+	EXPECT_EQ(allocationsOf([] {
+			  void *p = std::calloc(4, 4);
+			  escape(p);
+			  p = std::realloc(p, 4096);
+			  escape(p);
+			  std::free(p);
+		  }),
+		  2u);
+	EXPECT_EQ(allocationsOf([] {
+			  auto *p = new (std::align_val_t(64)) float[4];
+			  escape(p);
+			  ::operator delete[](p, std::align_val_t(64));
+		  }),
+		  1u);
+	EXPECT_EQ(allocationsOf([] {
+			  std::vector<int> v(100);
+			  escape(v.data());
+		  }),
+		  1u);
+	EXPECT_EQ(allocationsOf([] {
+			  std::string s(100, 'x'); // past the in-place buffer
+			  escape(s.data());
+		  }),
+		  1u);
+	int rc = -1;
+	EXPECT_EQ(allocationsOf([&rc] {
+			  void *p = nullptr;
+			  rc = posix_memalign(&p, 64, 256);
+			  escape(p);
+			  std::free(p);
+		  }),
+		  1u);
+	EXPECT_EQ(rc, 0);
+}
+
+TEST(TripwireSelfCheck, EigenHeapAllocationAbortsWhenForbidden)
+{
+	GTEST_FLAG_SET(death_test_style, "threadsafe");
+	EXPECT_DEATH(
+		{
+			Eigen::internal::set_is_malloc_allowed(false);
+			Eigen::MatrixXf m(64, 64);
+			m.setZero();
+			std::printf("%f\n", m.sum());
+		},
+		"heap allocation is forbidden");
+}
+
+TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
+{
+	test::SmallModel ape = test::trainSmallModel(1, 11);
+	test::SmallModel duck = test::trainSmallModel(9, 12);
+	ASSERT_TRUE(ape.model && duck.model);
+
+	// The real frame.
+	auto dataset = BopDataset::open(test::lmoDir(), "test");
+	ASSERT_TRUE(dataset.ok());
+	auto scene = dataset->loadScene(2);
+	ASSERT_TRUE(scene.ok());
+	const SceneCamera &cam = scene->cameras.at(3);
+	auto real = dataset->loadDepthMm(2, 3, cam.depthScale);
+	ASSERT_TRUE(real.ok());
+	CameraIntrinsics realK = cam.intrinsics;
+	realK.width = real->width();
+	realK.height = real->height();
+	PixelBox realApe, realDuck;
+	const auto &gt = scene->gt.at(3);
+	const auto &info = scene->gtInfo.at(3);
+	for (size_t i = 0; i < gt.size(); ++i) {
+		if (gt[i].objId == 1)
+			realApe = enlarge(info[i].bboxObj, 1.1);
+		if (gt[i].objId == 9)
+			realDuck = enlarge(info[i].bboxObj, 1.1);
+	}
+	ASSERT_FALSE(realApe.empty() || realDuck.empty());
+
+	// The synthetic frame: both objects at training-view appearances.
+	DepthImageMm synth(640, 480, 0.0f);
+	const Pose apeGt = test::viewAt(ape, 37, {-90, 30, 800});
+	const Pose duckGt = test::viewAt(duck, 55, {80, -20, 820});
+	const PixelBox synthApe = test::renderInto(*ape.model, apeGt, synth);
+	const PixelBox synthDuck = test::renderInto(*duck.model, duckGt, synth);
+
+	std::vector<Frame> frames(2);
+	frames[0] = {real->view(), realK, {{ape.model.get(), realApe}, {duck.model.get(), realDuck}}};
+	frames[1] = {synth.view(), test::kKinect,
+		     {{ape.model.get(), synthApe}, {duck.model.get(), synthDuck}}};
+
+	EstimatorLimits limits;
+	limits.maxMeshVertices = std::max(ape.model->mesh().vertices.size(), duck.model->mesh().vertices.size());
+	PoseEstimator estimator(limits);
+	ASSERT_TRUE(estimator.valid());
+	EstimatorConfig cfg;
+	cfg.iterations = 2;
+	cfg.icp = true;
+	cfg.partStride = 8; // fewer parts and votes than the model's 4: a faster test, the same code
+
+	constexpr int kWarmUp = 4, kFrames = 100;
+	int found = 0, noPose = 0, synthApeGood = 0, synthApeBoxes = 0, budgetStops = 0, icpRuns = 0;
+	uint64_t windowStart = 0;
+	for (int f = 0; f < kWarmUp + kFrames; ++f) {
+		if (f == kWarmUp) {
+			windowStart = test::heapAllocations();
+			Eigen::internal::set_is_malloc_allowed(false);
+		}
+		const Frame &frame = frames[f % 2];
+		const int dx = f % 5 - 2, dy = (f / 5) % 3 - 1;
+		// Half the frames unlimited, half under a tight budget.
+		const float budget = f % 4 < 2 ? 0.0f : 60.0f;
+		estimator.beginFrame(static_cast<int>(frame.boxes.size()) + 1, budget);
+		for (size_t b = 0; b < frame.boxes.size(); ++b) {
+			const FrameBox &fb = frame.boxes[b];
+			PoseEstimate e = estimator.estimate(frame.depth, frame.K, shifted(fb.box, dx, dy), *fb.model, cfg);
+			found += e.found;
+			noPose += !e.found;
+			budgetStops += e.budgetStopped;
+			icpRuns += e.icpApplied;
+			if (f % 2 == 1 && b == 0) {
+				++synthApeBoxes;
+				synthApeGood += e.found && (e.pose.t - apeGt.t).norm() < 20.0;
+			}
+		}
+		// Bad boxes: outside the image, and one with no depth in it.
+		PoseEstimate outside = estimator.estimate(frame.depth, frame.K, PixelBox{700, 10, 40, 40},
+							  *ape.model, cfg);
+		PoseEstimate sparse = estimator.estimate(frame.depth, frame.K, PixelBox{0, 0, 5, 5}, *duck.model, cfg);
+		noPose += !outside.found + !sparse.found;
+		estimator.endFrame();
+	}
+	Eigen::internal::set_is_malloc_allowed(true);
+	const uint64_t allocations = test::heapAllocations() - windowStart;
+
+	EXPECT_EQ(allocations, 0u) << "heap allocations in " << kFrames << " frames";
+	// The loop really did the work it claims to.
+	const int boxes = (kWarmUp + kFrames) * 2;
+	EXPECT_GE(found, boxes * 8 / 10);
+	EXPECT_GE(noPose, 2 * (kWarmUp + kFrames));
+	EXPECT_GE(synthApeGood, synthApeBoxes * 8 / 10);
+	EXPECT_GT(icpRuns, 0);
+	EstimatorStats s = estimator.stats();
+	EXPECT_EQ(s.frames, static_cast<uint64_t>(kWarmUp + kFrames));
+	EXPECT_GE(s.iterations, static_cast<uint64_t>(kFrames));
+	std::printf("frames %d, boxes found %d, no pose %d, budget stops %d, arena used %zu of %zu bytes\n",
+		    kWarmUp + kFrames, found, noPose, budgetStops, s.arenaHighWater, s.arenaCapacity);
+	for (int i = 0; i < kStageCount; ++i)
+		std::printf("  %-13s %8.1f ms in %llu calls\n", stageName(static_cast<Stage>(i)),
+			    1e-6 * static_cast<double>(s.stages[i].totalNs),
+			    static_cast<unsigned long long>(s.stages[i].calls));
+}
+
+} // namespace
+} // namespace ihf
