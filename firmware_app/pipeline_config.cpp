@@ -277,6 +277,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	ref.get("psi1", e.psi1);
 	ref.get("psi2", e.psi2);
 	ref.get("part_stride", e.partStride);
+	ref.get("target_parts", e.targetParts);
 	ref.get("depth_windows", e.depthWindows);
 	ref.get("hypothesis_cube", e.hypothesisCube);
 	ref.get("depth_window_width", e.depthWindowWidth);

@@ -293,6 +293,13 @@ int PoseEstimator::voteOnce(const CameraIntrinsics &K, const ObjectModel &model,
 	PartConfig partCfg = params.parts;
 	if (config.partStride > 0)
 		partCfg.stride = config.partStride;
+	// Large (near or big) objects: a wider stride keeps the part count near
+	// targetParts, so the vote buffer never truncates the last rows' votes
+	// and the time per box stays bounded.
+	if (config.targetParts > 0) {
+		const int wide = static_cast<int>(std::ceil(std::sqrt(static_cast<float>(cloudCount) / config.targetParts)));
+		partCfg.stride = std::max(partCfg.stride, wide);
+	}
 	partCfg.maxControlPoints = std::min(partCfg.maxControlPoints, limits_.maxPartControlPoints);
 	auto parts = extractor_.extractAll(partCfg, params.hocp, parts_, pool_);
 	timer_.lap(Stage::kParts);

@@ -65,6 +65,7 @@ struct EstimatorConfig {
 	float translationBandwidth = 0.06f; // of the object diameter
 	float rotationBandwidthDeg = 15.0f;
 	int partStride = 0; // 0: the model's training stride
+	int targetParts = 600; // wider stride when a box would give more parts; 0: off
 	bool icp = true;
 	int icpCandidates = 8; // distinct best hypotheses polished by ICP
 	IcpConfig icpConfig;
