@@ -38,6 +38,19 @@ std::string oniError(const char *what)
 
 } // namespace
 
+Expected<std::vector<std::string>> listOpenNi2Devices()
+{
+	if (openni::OpenNI::initialize() != openni::STATUS_OK)
+		return makeError(Errc::kIo, oniError("OpenNI2 initialisation failed"));
+	openni::Array<openni::DeviceInfo> list;
+	openni::OpenNI::enumerateDevices(&list);
+	std::vector<std::string> out;
+	for (int i = 0; i < list.getSize(); ++i)
+		out.push_back(std::string(list[i].getUri()) + " (" + list[i].getVendor() + " " + list[i].getName() + ")");
+	openni::OpenNI::shutdown();
+	return out;
+}
+
 OpenNi2Source::OpenNi2Source(std::string deviceUri, OpenNi2SourceOptions options, std::string uri)
 	: deviceUri_(std::move(deviceUri)), options_(std::move(options))
 {

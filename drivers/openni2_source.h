@@ -18,6 +18,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "drivers/frame_source.h"
 
@@ -27,6 +28,9 @@ struct OpenNi2SourceOptions {
 	bool realTime = false; // files only: recorded speed instead of stepping
 	std::optional<CameraIntrinsics> intrinsics; // calibration overriding the FOV model
 };
+
+// "URI (vendor name)" of every device OpenNI2 finds (`ihf devices`).
+Expected<std::vector<std::string>> listOpenNi2Devices();
 
 class OpenNi2Source : public FrameSource
 {
