@@ -381,6 +381,8 @@ Expected<FrameOutcome> LibcameraSource::next(Frame &frame, std::chrono::nanoseco
 				 buffer->metadata().status != lc::FrameMetadata::FrameSuccess;
 		if (bad) {
 			++counters_.corrupt;
+			if (buffer)
+				lastIndex_ = buffer->metadata().sequence; // not a gap as well
 			if (r->status() == lc::Request::RequestCancelled)
 				return makeError(Errc::kIo, info_.uri + ": capture was cancelled (camera stopped?)");
 			if (!requeue(r))

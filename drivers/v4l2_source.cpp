@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "drivers/v4l2_source.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -462,8 +463,11 @@ Expected<FrameOutcome> V4l2Source::next(Frame &frame, std::chrono::nanoseconds t
 		}
 		const bool incomplete = b.bytesused != 0 && b.bytesused < frameBytes_;
 		if ((b.flags & V4L2_BUF_FLAG_ERROR) || incomplete || b.index >= buffers_.size()) {
-			// Queue it back and wait for the next one.
+			// Queue it back and wait for the next one. Its sequence number
+			// is taken, so it does not count as a gap (dropped) as well.
 			++counters_.corrupt;
+			if (b.index < buffers_.size())
+				lastIndex_ = b.sequence;
 			if (b.index < buffers_.size()) {
 				held_ = static_cast<int>(b.index);
 				if (Status s = requeueHeld(); !s)
@@ -477,7 +481,10 @@ Expected<FrameOutcome> V4l2Source::next(Frame &frame, std::chrono::nanoseconds t
 		const bool monotonic = (b.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
 		frame.index = b.sequence;
 		frame.deviceTimestampNs = stampNs;
-		frame.hostTimestampNs = monotonic && stampNs > 0 ? stampNs : clock.nowNs();
+		// The buffer's stamp when it is on the steady clock; never later than
+		// now (vivid stamps a nominal end of frame that can lie ahead).
+		const int64_t now = clock.nowNs();
+		frame.hostTimestampNs = monotonic && stampNs > 0 ? std::min(stampNs, now) : now;
 		frame.intrinsics = info_.intrinsics;
 		frame.depthScale = info_.depthScale;
 		frame.depth = ImageView<const uint16_t>(static_cast<const uint16_t *>(buffers_[b.index].start),

@@ -14,7 +14,8 @@
 // than a frame) is queued back, counted as corrupt, and the wait goes on.
 // The frame index is the driver's sequence number (gaps = dropped frames).
 // The host timestamp is the buffer's timestamp when the driver stamps with
-// CLOCK_MONOTONIC (the steady clock), else the time of DQBUF.
+// CLOCK_MONOTONIC (the steady clock), capped at the time of DQBUF (a driver
+// may stamp a nominal end of frame that lies ahead), else the time of DQBUF.
 //
 // Depth scale policy: Z16 is millimetres unless the URI says otherwise
 // (scale=); Y16 carries no unit, so it is taken as millimetres too unless

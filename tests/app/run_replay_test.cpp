@@ -14,6 +14,8 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/file.h>
+#include <unistd.h>
 #include <sys/wait.h>
 
 #include <gtest/gtest.h>
@@ -62,9 +64,34 @@ std::string q(const fs::path &p) { return "'" + p.string() + "'"; }
 class RunReplay : public ::testing::Test
 {
 protected:
+	// The data (dataset, forest, recording, estimate's results) is made once
+	// per ihf binary and shared by the test processes ctest starts, under a
+	// lock so parallel ones wait instead of making it twice.
 	static void SetUpTestSuite()
 	{
-		dir_ = new fs::path(freshTempDir("run_replay"));
+		dir_ = new fs::path(fs::temp_directory_path() / "ihf_test_run_replay");
+		fs::create_directories(*dir_);
+		const int lock = ::open((*dir_ / ".lock").c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+		ASSERT_GE(lock, 0);
+		flock(lock, LOCK_EX);
+		const std::string stamp = std::to_string(fs::last_write_time(ihfBinary()).time_since_epoch().count()) +
+					  " " + std::to_string(fs::file_size(ihfBinary()));
+		std::string ready;
+		std::getline(std::ifstream(*dir_ / "ready"), ready);
+		if (ready != stamp) {
+			for (const auto &e : fs::directory_iterator(*dir_))
+				if (e.path().filename() != ".lock")
+					fs::remove_all(e.path());
+			makeData();
+			if (!HasFatalFailure())
+				std::ofstream(*dir_ / "ready") << stamp << "\n";
+		}
+		flock(lock, LOCK_UN);
+		::close(lock);
+	}
+
+	static void makeData()
+	{
 		const fs::path &d = *dir_;
 		const fs::path models = sourceDir() / "config" / "models";
 		CommandResult r = runIhf("synth --models " + q(models) + " --objects 20 --images 3 --seed 5 --out " +

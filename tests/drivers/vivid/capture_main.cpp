@@ -161,8 +161,13 @@ void checkCapture(const std::string &node)
 		else if (dev[i] <= dev[i - 1] || host[i] <= host[i - 1])
 			problem = "timestamps not increasing at " + std::to_string(i);
 	}
-	if (problem.empty() && (host.front() < t0 - 1'000'000'000 || host.back() > t1))
-		problem = "host timestamps are not on the steady clock";
+	if (problem.empty() && (host.front() < t0 - 1'000'000'000 || host.back() > t1)) {
+		char why[160];
+		std::snprintf(why, sizeof(why),
+			      "host timestamps are not on the steady clock (first %.1f ms after start, last %.1f ms "
+			      "before the end)", (host.front() - t0) * 1e-6, (t1 - host.back()) * 1e-6);
+		problem = why;
+	}
 	if (problem.empty() && distinct < 4)
 		problem = "the frames carry no test pattern (" + std::to_string(distinct) + " values in a row)";
 	if (problem.empty() && src.interruptedWaits() == 0)
@@ -257,8 +262,9 @@ void checkBufError(const std::string &node)
 	if (problem.empty() && c.corrupt != 1)
 		problem = "corrupt count is " + std::to_string(c.corrupt) + ", expected 1";
 	char detail[160];
-	std::snprintf(detail, sizeof(detail), "%d frames delivered, corrupt %llu, index gap at %llu", got,
-		      static_cast<unsigned long long>(c.corrupt), static_cast<unsigned long long>(gapAt));
+	std::snprintf(detail, sizeof(detail), "%d frames delivered, corrupt %llu, dropped %llu, index gap at %llu",
+		      got, static_cast<unsigned long long>(c.corrupt), static_cast<unsigned long long>(c.dropped),
+		      static_cast<unsigned long long>(gapAt));
 	report("bufError", problem.empty(), problem.empty() ? detail : problem + "; " + detail);
 }
 
