@@ -32,7 +32,8 @@ void VisWriter::begin(uint64_t frame, int objId, const PixelBox &box)
 
 void VisWriter::onHypothesis(const HypothesisEvent &e)
 {
-	if (std::strcmp(e.stage, "given") == 0 || e.iteration < 0)
+	// The vote modes of each iteration; ICP's polish shows in the final picture.
+	if (std::strcmp(e.stage, "mode") != 0 || e.iteration < 0)
 		return;
 	if (best_.size() <= static_cast<size_t>(e.iteration))
 		best_.resize(e.iteration + 1);

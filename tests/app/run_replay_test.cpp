@@ -19,6 +19,7 @@
 #include <sys/wait.h>
 
 #include <gtest/gtest.h>
+#include <png.h>
 #include <nlohmann/json.hpp>
 
 #include "core/dataset/bop_io.h"
@@ -276,6 +277,75 @@ TEST_F(RunReplay, SigtermStopsCleanlyWithTheOutputComplete)
 	EXPECT_NE(text.find("shutdown requested"), std::string::npos) << text;
 	EXPECT_NE(text.find("on SIGTERM"), std::string::npos) << text;
 	EXPECT_TRUE(fs::exists(d / "sigterm.jsonl")); // finished: renamed into place
+}
+
+struct Rgb {
+	int width = 0, height = 0;
+	std::vector<uint8_t> pixels;
+	int count(uint8_t r, uint8_t g, uint8_t b) const
+	{
+		int n = 0;
+		for (size_t i = 0; i + 2 < pixels.size(); i += 3)
+			n += pixels[i] == r && pixels[i + 1] == g && pixels[i + 2] == b;
+		return n;
+	}
+};
+
+Rgb readRgb(const fs::path &file)
+{
+	Rgb out;
+	png_image img{};
+	img.version = PNG_IMAGE_VERSION;
+	if (!png_image_begin_read_from_file(&img, file.c_str()))
+		return out;
+	img.format = PNG_FORMAT_RGB;
+	out.pixels.resize(PNG_IMAGE_SIZE(img));
+	if (png_image_finish_read(&img, nullptr, out.pixels.data(), 0, nullptr)) {
+		out.width = static_cast<int>(img.width);
+		out.height = static_cast<int>(img.height);
+	}
+	return out;
+}
+
+TEST_F(RunReplay, VisDrawsTheHypothesisOfEachIterationOverTheCrop)
+{
+	const fs::path &d = *dir_;
+	const fs::path vis = freshTempDir("run_vis");
+	CommandResult r = runIhf("run --config " + q(d / "device.toml") + " --frames 1 --vis " + q(vis) +
+				 " --out file:" + q(vis / "poses.jsonl"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	const RunOutput got = readRunOutput(vis / "poses.jsonl");
+	ASSERT_EQ(got.poses.size(), 1u);
+	const json &pose = got.poses.begin()->second;
+	const int iterations = pose["iterations"].get<int>();
+	ASSERT_GT(iterations, 0);
+
+	// The crop: frame 0's box (as pixels) with a margin of w/8 + 4, clipped to 640 x 480.
+	std::ifstream in(d / "boxes.jsonl");
+	std::string line;
+	std::getline(in, line);
+	const json box = json::parse(line)["boxes"][0]["bbox"];
+	const int bx = static_cast<int>(std::floor(box[0].get<double>()));
+	const int by = static_cast<int>(std::floor(box[1].get<double>()));
+	const int bw = static_cast<int>(std::ceil(box[2].get<double>()));
+	const int bh = static_cast<int>(std::ceil(box[3].get<double>()));
+	const int x0 = std::max(0, bx - (bw / 8 + 4)), x1 = std::min(640, bx + bw + bw / 8 + 4);
+	const int y0 = std::max(0, by - (bh / 8 + 4)), y1 = std::min(480, by + bh + bh / 8 + 4);
+
+	for (int k = 0; k <= iterations; ++k) {
+		const fs::path file = vis / ("f000000_o20_it" + std::to_string(k) + ".png");
+		ASSERT_TRUE(fs::exists(file)) << file << "\n" << r.output;
+		const Rgb img = readRgb(file);
+		EXPECT_EQ(img.width, x1 - x0) << file;
+		EXPECT_EQ(img.height, y1 - y0) << file;
+		EXPECT_GT(img.count(230, 40, 40), 20) << "no hypothesis outline in " << file;
+	}
+	EXPECT_FALSE(fs::exists(vis / ("f000000_o20_it" + std::to_string(iterations + 1) + ".png")));
+	const Rgb final = readRgb(vis / "f000000_o20_final.png");
+	EXPECT_EQ(final.width, x1 - x0);
+	EXPECT_GT(final.count(40, 220, 60), 20) << "no final outline";
+	EXPECT_GT(final.count(230, 200, 0), 2 * (bw + bh) - 8) << "no box frame";
+	EXPECT_NE(r.output.find("pictures in"), std::string::npos) << r.output;
 }
 
 TEST_F(RunReplay, UsageErrors)
