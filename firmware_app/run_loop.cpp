@@ -225,13 +225,19 @@ RunEnd RunLoop::run()
 			break;
 		if (*r == FrameOutcome::kTimeout) {
 			++counters_.timeouts;
-			if (source_.info().live)
-				std::fprintf(log_, "ihf run: %s: no frame in %.0f ms\n", source_.info().uri.c_str(),
-					     config_.timeout.count() * 1e-6);
+			// Reported at the 1st, 10th, 100th... timeout in a row.
+			++timeoutsInARow_;
+			const bool decade = timeoutsInARow_ == 1 || timeoutsInARow_ == 10 || timeoutsInARow_ == 100 ||
+					    timeoutsInARow_ % 1000 == 0;
+			if (source_.info().live && decade)
+				std::fprintf(log_, "ihf run: %s: no frame in %.0f ms (%llu times in a row)\n",
+					     source_.info().uri.c_str(), config_.timeout.count() * 1e-6,
+					     static_cast<unsigned long long>(timeoutsInARow_));
 			maybeStats(false);
 			continue;
 		}
 		failuresInARow_ = 0;
+		timeoutsInARow_ = 0;
 		++counters_.delivered;
 		const int64_t now = clock_.nowNs();
 		int64_t arrival = now;

@@ -130,6 +130,7 @@ private:
 	int64_t startNs_ = 0, lastStatsNs_ = 0;
 	uint64_t statsDelivered_ = 0;
 	int failuresInARow_ = 0;
+	uint64_t timeoutsInARow_ = 0;
 	SourcePresence *presence_ = nullptr;
 	std::chrono::nanoseconds presenceInterval_{0};
 	int64_t lastPresenceNs_ = 0;

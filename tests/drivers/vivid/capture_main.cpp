@@ -4,7 +4,8 @@
 // ihf's V4L2 source against the real kernel:
 //   capture   30 Y16 frames by mmap streaming, with a 3 ms interval timer
 //             interrupting poll() (EINTR must be retried): sizes, strides,
-//             indices and timestamps increasing, a real test pattern
+//             indices and timestamps increasing, a real test pattern, and
+//             no heap allocation in next() (operator new is counted)
 //   timeout   at 1 fps (or the slowest rate vivid allows), next() with a
 //             short timeout returns kTimeout, then the next frame arrives
 //   bufError  vivid's "Inject V4L2_BUF_FLAG_ERROR": that buffer is skipped
@@ -17,7 +18,10 @@
 // last line "IHF-V4L2-RESULT PASS|FAIL"; the host-side test parses them.
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
+#include <cstdlib>
+#include <new>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -34,6 +38,23 @@
 #include "drivers/v4l2_source.h"
 
 using namespace ihf;
+
+namespace {
+std::atomic<bool> gCounting{false};
+std::atomic<long> gAllocations{0};
+} // namespace
+
+// Test-only: C++ allocations are counted while gCounting is set.
+void *operator new(std::size_t n)
+{
+	if (gCounting.load(std::memory_order_relaxed))
+		gAllocations.fetch_add(1, std::memory_order_relaxed);
+	if (void *p = std::malloc(n ? n : 1))
+		return p;
+	throw std::bad_alloc();
+}
+void operator delete(void *p) noexcept { std::free(p); }
+void operator delete(void *p, std::size_t) noexcept { std::free(p); }
 
 namespace {
 
@@ -128,7 +149,9 @@ void checkCapture(const std::string &node)
 	const int64_t t0 = clock.nowNs();
 	for (int i = 0; i < 30 && problem.empty(); ++i) {
 		Frame f;
+		gCounting = i > 0; // the first next() may set things up
 		Expected<FrameOutcome> r = src.next(f, std::chrono::seconds(3));
+		gCounting = false;
 		if (!r) {
 			problem = r.error().message;
 			break;
@@ -172,17 +195,19 @@ void checkCapture(const std::string &node)
 		problem = "the frames carry no test pattern (" + std::to_string(distinct) + " values in a row)";
 	if (problem.empty() && src.interruptedWaits() == 0)
 		problem = "the interval timer never interrupted poll()";
+	if (problem.empty() && gAllocations.load() != 0)
+		problem = std::to_string(gAllocations.load()) + " heap allocations in next()";
 	const double ms = idx.size() > 1 ? (dev.back() - dev.front()) * 1e-6 / (idx.size() - 1) : 0;
-	char detail[256];
+	char detail[320];
 	std::snprintf(detail, sizeof(detail),
 		      "%s %dx%d bytesperline %d, frames %zu, index %llu..%llu, dropped %llu, %.1f ms apart, "
-		      "%llu EINTR retried (%d alarms), %d values in a row; sensor: %s",
+		      "%llu EINTR retried (%d alarms), %d values in a row, %ld allocations in next(); sensor: %s",
 		      src.pixelFormat().c_str(), w, h, src.bytesPerLine(), idx.size(),
 		      idx.empty() ? 0ULL : static_cast<unsigned long long>(idx.front()),
 		      idx.empty() ? 0ULL : static_cast<unsigned long long>(idx.back()),
 		      static_cast<unsigned long long>(src.counters().dropped), ms,
 		      static_cast<unsigned long long>(src.interruptedWaits()), static_cast<int>(alarms), distinct,
-		      info.sensorId.c_str());
+		      gAllocations.load(), info.sensorId.c_str());
 	report("capture", problem.empty(), problem.empty() ? detail : problem + "; " + detail);
 }
 

@@ -35,6 +35,15 @@ if [ ! -d "$tree" ]; then
 	deb="$(ls "$work/cache/${pkg}"_*.deb | head -n 1)"
 	rm -rf "$tree.tmp"
 	dpkg -x "$deb" "$tree.tmp"
+	# Only the kernel and the media modules are kept (400 MB -> about 20 MB).
+	find "$tree.tmp/lib/modules" -mindepth 1 -maxdepth 1 -type d | while read -r v; do
+		mkdir -p "$tree.tmp/keep"
+		mv "$v/kernel/drivers/media" "$tree.tmp/keep/media"
+		rm -rf "$v"
+		mkdir -p "$v/kernel/drivers"
+		mv "$tree.tmp/keep/media" "$v/kernel/drivers/media"
+	done
+	rm -rf "$tree.tmp/keep" "$tree.tmp/usr" "$tree.tmp/etc"
 	mv "$tree.tmp" "$tree"
 	rm -f "$deb" # the unpacked tree is the cache
 fi
