@@ -38,6 +38,14 @@ std::string oniError(const char *what)
 
 } // namespace
 
+OpenNi2Session::OpenNi2Session() : ok_(openni::OpenNI::initialize() == openni::STATUS_OK) {}
+
+OpenNi2Session::~OpenNi2Session()
+{
+	if (ok_)
+		openni::OpenNI::shutdown();
+}
+
 Expected<std::vector<std::string>> listOpenNi2Devices()
 {
 	if (openni::OpenNI::initialize() != openni::STATUS_OK)

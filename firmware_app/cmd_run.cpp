@@ -8,8 +8,10 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "core/model/forest_file.h"
+#include "drivers/openni2_source.h"
 #include "drivers/source_factory.h"
 #include "firmware_app/box_feed.h"
 #include "firmware_app/command.h"
@@ -114,6 +116,12 @@ int runRun(const RunOptions &o)
 		models[id] = m->get();
 		owned[id] = std::move(m.value());
 	}
+
+	// Reconnecting closes and reopens the source: OpenNI2 must not unload
+	// its drivers in between (see OpenNi2Session).
+	std::optional<OpenNi2Session> openni2;
+	if (rs.sourceUri.rfind("openni2:", 0) == 0)
+		openni2.emplace();
 
 	SourceOptions so;
 	so.pacing = rs.realTime ? Pacing::kRealTime : Pacing::kStep;
