@@ -9,11 +9,16 @@
 
 #include <csignal>
 #include <fstream>
+#include <algorithm>
+#include <cstring>
 #include <map>
+#include <sstream>
 #include <thread>
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/socket.h>
+#include <sys/un.h>
 #include <sys/file.h>
 #include <unistd.h>
 #include <sys/wait.h>
@@ -75,8 +80,9 @@ protected:
 		const int lock = ::open((*dir_ / ".lock").c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
 		ASSERT_GE(lock, 0);
 		flock(lock, LOCK_EX);
+		// The ihf binary and this test's build (it writes the configs).
 		const std::string stamp = std::to_string(fs::last_write_time(ihfBinary()).time_since_epoch().count()) +
-					  " " + std::to_string(fs::file_size(ihfBinary()));
+					  " " + std::to_string(fs::file_size(ihfBinary())) + " " + __DATE__ " " __TIME__;
 		std::string ready;
 		std::getline(std::ifstream(*dir_ / "ready"), ready);
 		if (ready != stamp) {
@@ -126,7 +132,7 @@ protected:
 		out.close();
 		std::ofstream(d / "device.toml")
 			<< "[source]\nuri = \"recording:ds.rec\"\n"
-			<< "[boxes]\ninput = \"file:boxes_unknown.jsonl\"\n"
+			<< "[boxes]\ninput = \"file:boxes_unknown.jsonl\"\ntimeout_ms = 20000\n"
 			<< "[output]\nposes = \"file:poses.jsonl\"\n"
 			<< "[objects]\n20 = \"bunny.ihf\"\n"
 			<< "[estimate]\nconfig = \"" << (sourceDir() / "config" / "estimate.toml").string() << "\"\n"
@@ -346,6 +352,92 @@ TEST_F(RunReplay, VisDrawsTheHypothesisOfEachIterationOverTheCrop)
 	EXPECT_GT(final.count(40, 220, 60), 20) << "no final outline";
 	EXPECT_GT(final.count(230, 200, 0), 2 * (bw + bh) - 8) << "no box frame";
 	EXPECT_NE(r.output.find("pictures in"), std::string::npos) << r.output;
+}
+
+TEST_F(RunReplay, RealTimeReplayDropsFramesOlderThanTheBudget)
+{
+	// 30 fps, a 1 ms budget: frame 0 is taken at once; estimating it takes far
+	// longer than the 67 ms until frames 1 and 2 are due, so both are late.
+	const fs::path &d = *dir_;
+	CommandResult r = runIhf("run --config " + q(d / "device.toml") + " --real-time --frame-budget-ms 1" +
+				 " --out file:" + q(d / "late.jsonl"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("end of stream; frames 3 processed 1 late 2"), std::string::npos) << r.output;
+	const RunOutput got = readRunOutput(d / "late.jsonl");
+	ASSERT_EQ(got.poses.size(), 1u);
+	EXPECT_EQ(got.poses.begin()->first.frame, 0);
+	expectSamePose(got.poses.begin()->second, estimateRows(d / "est.csv").begin()->second);
+}
+
+TEST_F(RunReplay, BoxesInAndPosesOutOnAUnixSocket)
+{
+	const fs::path &d = *dir_;
+	const fs::path sock = freshTempDir("run_socket") / "ihf.sock";
+	std::vector<std::string> args = {ihfBinary().string(), "run", "--config", (d / "device.toml").string(),
+					 "--boxes", "unix:" + sock.string(), "--out", "socket"};
+	std::vector<char *> argv;
+	for (auto &a : args)
+		argv.push_back(a.data());
+	argv.push_back(nullptr);
+	const std::string err = (sock.parent_path() / "run.err").string();
+	posix_spawn_file_actions_t fa;
+	posix_spawn_file_actions_init(&fa);
+	posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+	pid_t pid = 0;
+	ASSERT_EQ(posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ), 0);
+	posix_spawn_file_actions_destroy(&fa);
+
+	// The detector: connects once ihf listens, sends every box line, reads poses back.
+	int s = -1;
+	for (int i = 0; i < 100 && s < 0; ++i) {
+		s = socket(AF_UNIX, SOCK_STREAM, 0);
+		sockaddr_un a{};
+		a.sun_family = AF_UNIX;
+		std::strncpy(a.sun_path, sock.c_str(), sizeof(a.sun_path) - 1);
+		if (connect(s, reinterpret_cast<sockaddr *>(&a), sizeof(a)) != 0) {
+			close(s);
+			s = -1;
+			std::this_thread::sleep_for(std::chrono::milliseconds(50));
+		}
+	}
+	ASSERT_GE(s, 0) << "ihf run never listened on " << sock;
+	std::ifstream boxes(d / "boxes_unknown.jsonl");
+	const std::string lines((std::istreambuf_iterator<char>(boxes)), {});
+	ASSERT_EQ(write(s, lines.data(), lines.size()), static_cast<ssize_t>(lines.size()));
+	const auto expected = estimateRows(d / "est.csv");
+	std::string received;
+	char buf[4096];
+	ssize_t n;
+	size_t newlines = 0;
+	while (newlines < expected.size() + 1 && (n = read(s, buf, sizeof(buf))) > 0) {
+		received.append(buf, n);
+		newlines = std::count(received.begin(), received.end(), '\n');
+	}
+	close(s);
+	int status = 0;
+	ASSERT_EQ(waitpid(pid, &status, 0), pid);
+	std::ifstream errIn(err);
+	const std::string text((std::istreambuf_iterator<char>(errIn)), {});
+	ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << text;
+
+	// Every pose of ihf estimate, and the unknown object's error line.
+	std::istringstream in(received);
+	std::string line;
+	size_t poses = 0, errors = 0;
+	while (std::getline(in, line)) {
+		json j = json::parse(line);
+		if (j.contains("error")) {
+			EXPECT_EQ(j["obj_id"], 99);
+			++errors;
+			continue;
+		}
+		auto it = expected.find({j["frame"].get<int>(), j["obj_id"].get<int>()});
+		ASSERT_NE(it, expected.end()) << line;
+		expectSamePose(j, it->second);
+		++poses;
+	}
+	EXPECT_EQ(poses, expected.size()) << received << text;
+	EXPECT_EQ(errors, 1u);
 }
 
 TEST_F(RunReplay, UsageErrors)
