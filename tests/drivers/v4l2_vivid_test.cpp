@@ -78,6 +78,8 @@ TEST(V4l2Vivid, PollTimeoutGivesKTimeout) { expectCheck("timeout"); }
 TEST(V4l2Vivid, BufFlagErrorIsSkippedAndCounted) { expectCheck("bufError"); }
 TEST(V4l2Vivid, DeviceRemovalIsAnErrorAndReopenWorksWhenItReturns) { expectCheck("removal"); }
 
+TEST(V4l2Vivid, RunLoopReportsTheRemovalAndReopens) { expectCheck("runLoop"); }
+
 TEST(V4l2Vivid, TheVmRanToTheEnd)
 {
 	const VmRun &r = vm();

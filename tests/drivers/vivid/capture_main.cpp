@@ -14,6 +14,10 @@
 //             fails with a kIo error naming the device and saying it was
 //             removed; opening fails while it is gone; after binding it
 //             again, open() + start() (the caller's reconnect) gives frames
+//   runLoop   ihf run's frame loop (RunLoop) on the V4L2 source: the device
+//             is unbound at frame 5 and bound again 1.5 s later; the loop
+//             reports the removal, reopens with backoff and goes on to 20
+//             frames
 // One line per check, "IHF-V4L2 CHECK <name> PASS|FAIL <detail>", and a
 // last line "IHF-V4L2-RESULT PASS|FAIL"; the host-side test parses them.
 
@@ -26,6 +30,7 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fcntl.h>
@@ -36,6 +41,7 @@
 
 #include "drivers/clock.h"
 #include "drivers/v4l2_source.h"
+#include "firmware_app/run_loop.h"
 
 using namespace ihf;
 
@@ -362,6 +368,77 @@ void checkRemoval(std::string node)
 		       " | while gone: " + goneMessage + " | after rebind: " + std::to_string(frames) + " frames");
 }
 
+// Counts frames; unbinds the device at frame 5 and binds it again later.
+class UnbindingProcessor : public app::FrameProcessor
+{
+public:
+	Status prepare(const SourceInfo &) override
+	{
+		++prepared;
+		return {};
+	}
+	Status process(const Frame &, int64_t) override
+	{
+		if (++frames == 5) {
+			unbound = writeSys("/sys/bus/platform/drivers/vivid/unbind", "vivid.0");
+			rebinder = std::thread([this] {
+				std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+				rebound = writeSys("/sys/bus/platform/drivers/vivid/bind", "vivid.0");
+			});
+		}
+		return {};
+	}
+	void describe(std::string &) const override {}
+
+	int frames = 0, prepared = 0;
+	bool unbound = false;
+	std::atomic<bool> rebound{false};
+	std::thread rebinder;
+};
+
+void checkRunLoop(const std::string &node)
+{
+	auto uri = parseV4l2Uri(sourceUri(node, nullptr));
+	V4l2Source src(uri->device, uri->options);
+	UnbindingProcessor proc;
+	SteadyClock clock;
+	app::RunLoopConfig cfg;
+	cfg.timeout = std::chrono::seconds(2);
+	cfg.maxRetries = 8;
+	cfg.backoff = std::chrono::milliseconds(100);
+	cfg.backoffMax = std::chrono::milliseconds(800);
+	cfg.maxFrames = 20;
+	cfg.statsInterval = std::chrono::nanoseconds(0);
+	std::FILE *log = std::tmpfile();
+	app::RunLoop loop(src, proc, clock, cfg, nullptr, log);
+	const app::RunEnd end = loop.run();
+	if (proc.rebinder.joinable())
+		proc.rebinder.join();
+	std::string text;
+	std::rewind(log);
+	char buf[512];
+	while (std::fgets(buf, sizeof(buf), log))
+		text += buf;
+	std::fclose(log);
+	const app::RunCounters &c = loop.counters();
+	std::string problem;
+	if (!proc.unbound || !proc.rebound)
+		problem = "could not unbind/bind vivid.0";
+	else if (end != app::RunEnd::kMaxFrames)
+		problem = std::string("the loop ended with ") + app::runEndName(end) + ": " + loop.failure();
+	else if (c.reopens != 1 || c.sourceErrors < 2 || proc.prepared != 2)
+		problem = "expected one removal, failed reopens while unbound, then one reopen";
+	else if (text.find("was removed") == std::string::npos || text.find("reopened") == std::string::npos)
+		problem = "the log does not report the removal and the reopen";
+	for (char &ch : text)
+		if (ch == '\n')
+			ch = '|';
+	report("runLoop", problem.empty(),
+	       (problem.empty() ? std::string() : problem + "; ") + "frames " + std::to_string(c.delivered) +
+		       ", source errors " + std::to_string(c.sourceErrors) + ", reopens " +
+		       std::to_string(c.reopens) + "; log: " + text);
+}
+
 } // namespace
 
 int main()
@@ -372,7 +449,8 @@ int main()
 		checkCapture(node);
 		checkTimeout(node);
 		checkBufError(node);
-		checkRemoval(node); // last: it unbinds the device
+		checkRemoval(node); // these two unbind the device and bind it again
+		checkRunLoop(node);
 	}
 	std::printf("IHF-V4L2-RESULT %s\n", failures ? "FAIL" : "PASS");
 	std::fflush(stdout);
