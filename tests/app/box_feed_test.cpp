@@ -29,12 +29,6 @@ void writeText(const fs::path &file, const std::string &text)
 	std::ofstream(file, std::ios::binary) << text;
 }
 
-std::string readText(const fs::path &file)
-{
-	std::ifstream in(file, std::ios::binary);
-	return {std::istreambuf_iterator<char>(in), {}};
-}
-
 TEST(BoxFeed, MatchesLinesToFrames)
 {
 	const fs::path dir = test::freshTempDir("box_feed_match");
