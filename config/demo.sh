@@ -1,12 +1,25 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The main job on its embedded default. Until the on-device loop and its
-# bundled recording land (issue 5), it synthesises a small Kinect-like scene
-# set of the bundled Stanford bunny and shows where it went.
+# The main job on its embedded default: `ihf run` replays a short recording
+# of synthetic Kinect-like scenes of the bundled Stanford bunny with their
+# boxes, estimates each box with a small forest and prints the poses (JSON
+# lines) on stdout; no sensor needed. The recording, boxes and forest are
+# made once, deterministically (fixed seeds), into build/demo/.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-out="$root/build/demo/bunny"
-rm -rf "$out"
-mkdir -p "$(dirname "$out")"
-"$root/build/bin/ihf" synth --models "$root/config/models" --objects 20 --images 3 --seed 1 --out "$out"
-echo "demo: synthetic BOP dataset in $out (depth/*.png, scene_gt.json, boxes.json)"
+ihf="$root/build/bin/ihf"
+demo="$root/build/demo"
+if [ ! -f "$demo/bunny.rec" ] || [ ! -f "$demo/obj_000020.ihf" ] || [ ! -f "$demo/boxes.jsonl" ]; then
+	echo "demo: making the embedded default in $demo (synthetic scenes, small forest)" >&2
+	rm -rf "$demo"
+	mkdir -p "$demo"
+	"$ihf" synth --models "$root/config/models" --objects 20 --images 4 --seed 1 --occlusion 0:0.2 \
+		--clutter 2:5 --quiet --out "$demo/scenes"
+	"$ihf" train --model "$root/config/models/obj_000020.ply" --config "$root/config/demo-train.toml" \
+		--out "$demo/obj_000020.ihf"
+	"$ihf" record --from-bop "$demo/scenes" --compress --out "$demo/bunny.rec" \
+		--boxes "$demo/scenes/boxes.json" --boxes-out "$demo/boxes.jsonl"
+fi
+"$ihf" run --config "$root/config/device.toml" "$@"
+echo "demo: poses of the bunny (model -> camera, mm) per frame; ground truth in" \
+	"$demo/scenes/test/000020/scene_gt.json" >&2

@@ -2,7 +2,7 @@
 #pragma once
 
 // Time as the frame sources see it: "now" and "sleep until". Real-time
-// playback takes a Clock so tests can run it on simulated time.
+// playback takes a PacingClock so tests can run it on simulated time.
 
 #include <chrono>
 #include <cstdint>
@@ -10,17 +10,17 @@
 
 namespace ihf {
 
-class Clock
+class PacingClock
 {
 public:
-	virtual ~Clock() = default;
+	virtual ~PacingClock() = default;
 	virtual int64_t nowNs() = 0;
 	// Returns at or after deadlineNs (at once if it has passed).
 	virtual void sleepUntil(int64_t deadlineNs) = 0;
 };
 
 // The host's monotonic clock.
-class SteadyClock : public Clock
+class SteadyPacingClock : public PacingClock
 {
 public:
 	int64_t nowNs() override

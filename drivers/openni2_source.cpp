@@ -38,6 +38,27 @@ std::string oniError(const char *what)
 
 } // namespace
 
+OpenNi2Session::OpenNi2Session() : ok_(openni::OpenNI::initialize() == openni::STATUS_OK) {}
+
+OpenNi2Session::~OpenNi2Session()
+{
+	if (ok_)
+		openni::OpenNI::shutdown();
+}
+
+Expected<std::vector<std::string>> listOpenNi2Devices()
+{
+	if (openni::OpenNI::initialize() != openni::STATUS_OK)
+		return makeError(Errc::kIo, oniError("OpenNI2 initialisation failed"));
+	openni::Array<openni::DeviceInfo> list;
+	openni::OpenNI::enumerateDevices(&list);
+	std::vector<std::string> out;
+	for (int i = 0; i < list.getSize(); ++i)
+		out.push_back(std::string(list[i].getUri()) + " (" + list[i].getVendor() + " " + list[i].getName() + ")");
+	openni::OpenNI::shutdown();
+	return out;
+}
+
 OpenNi2Source::OpenNi2Source(std::string deviceUri, OpenNi2SourceOptions options, std::string uri)
 	: deviceUri_(std::move(deviceUri)), options_(std::move(options))
 {
@@ -194,7 +215,7 @@ Expected<FrameOutcome> OpenNi2Source::next(Frame &frame, std::chrono::nanosecond
 	for (int y = 0; y < h; ++y)
 		std::memcpy(buffer_.view().row(y), bytes + static_cast<size_t>(y) * stride, w * 2);
 
-	SteadyClock clock;
+	SteadyPacingClock clock;
 	frame.index = static_cast<uint64_t>(ref.getFrameIndex());
 	frame.deviceTimestampNs = static_cast<int64_t>(ref.getTimestamp()) * 1000;
 	frame.hostTimestampNs = clock.nowNs();

@@ -18,6 +18,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "drivers/frame_source.h"
 
@@ -27,6 +28,28 @@ struct OpenNi2SourceOptions {
 	bool realTime = false; // files only: recorded speed instead of stepping
 	std::optional<CameraIntrinsics> intrinsics; // calibration overriding the FOV model
 };
+
+// Keeps OpenNI2 and its drivers loaded while it lives. OpenNI2 counts
+// initialize/shutdown; at the last shutdown it cancels its threads
+// (pthread_cancel) and unloads the drivers, and a thread still unwinding
+// through an unloaded driver crashes the process. A program that closes and
+// reopens OpenNI2 sources (ihf run's reconnects, tests) holds one of these
+// around them, so only its own end unloads the drivers.
+class OpenNi2Session
+{
+public:
+	OpenNi2Session();
+	~OpenNi2Session();
+	OpenNi2Session(const OpenNi2Session &) = delete;
+	OpenNi2Session &operator=(const OpenNi2Session &) = delete;
+	bool ok() const { return ok_; }
+
+private:
+	bool ok_ = false;
+};
+
+// "URI (vendor name)" of every device OpenNI2 finds (`ihf devices`).
+Expected<std::vector<std::string>> listOpenNi2Devices();
 
 class OpenNi2Source : public FrameSource
 {

@@ -4,7 +4,7 @@
 // A .rec recording played as a frame source. Step mode hands out the frames
 // in file order as fast as next() is called (deterministic: tests and
 // offline runs). Real-time mode paces them by their recorded host
-// timestamps (scaled by speed) on an injected Clock; a frame not due within
+// timestamps (scaled by speed) on an injected PacingClock; a frame not due within
 // the timeout gives kTimeout and stays pending. Frames failing their CRC are
 // skipped and counted (counters().corrupt); a truncated file ends the stream
 // after its last complete frame. Frames keep their recorded index and
@@ -28,7 +28,7 @@ enum class Pacing {
 struct RecordingSourceOptions {
 	Pacing pacing = Pacing::kStep;
 	double speed = 1.0; // real-time only: 2 = twice as fast
-	Clock *clock = nullptr; // real-time only; null = the host steady clock
+	PacingClock *clock = nullptr; // real-time only; null = the host steady clock
 };
 
 class RecordingSource : public FrameSource
@@ -53,8 +53,8 @@ public:
 private:
 	std::filesystem::path file_;
 	RecordingSourceOptions options_;
-	SteadyClock steadyClock_;
-	Clock *clock_;
+	SteadyPacingClock steadyClock_;
+	PacingClock *clock_;
 	SourceInfo info_;
 	std::optional<RecordingReader> reader_;
 	Image<uint16_t> buffer_;

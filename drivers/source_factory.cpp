@@ -2,13 +2,20 @@
 #include "drivers/source_factory.h"
 
 #include "drivers/openni2_source.h"
+#include "drivers/v4l2_source.h"
+#ifdef IHF_HAVE_LIBCAMERA
+#include "drivers/libcamera_source.h"
+#endif
 
 namespace ihf {
 
 const char *frameSourceUriHelp()
 {
 	return "recording:PATH (an ihf .rec file), openni2: (first OpenNI2 device), "
-	       "openni2:PATH.oni (an OpenNI2 recording), openni2:URI (an OpenNI2 device)";
+	       "openni2:PATH.oni (an OpenNI2 recording), openni2:URI (an OpenNI2 device), "
+	       "v4l2:/dev/videoN[?format=z16|y16&width=W&height=H&fps=F&scale=MM&hfov=DEG&fx=..&fy=..&cx=..&cy=..] "
+	       "(a V4L2 depth node), libcamera:[CAMERA-ID][?width=W&height=H&scale=MM&hfov=DEG] "
+	       "(a raw depth/ToF stream; when built with libcamera)";
 }
 
 Expected<std::unique_ptr<FrameSource>> makeFrameSource(const std::string &uri,
@@ -36,6 +43,25 @@ Expected<std::unique_ptr<FrameSource>> makeFrameSource(const std::string &uri,
 		o.realTime = options.pacing == Pacing::kRealTime;
 		o.intrinsics = options.intrinsics;
 		return std::unique_ptr<FrameSource>(std::make_unique<OpenNi2Source>(rest, o, uri));
+	}
+	if (scheme == "v4l2") {
+		Expected<V4l2Uri> parsed = parseV4l2Uri(rest);
+		if (!parsed)
+			return parsed.error();
+		return std::unique_ptr<FrameSource>(
+			std::make_unique<V4l2Source>(parsed->device, parsed->options, uri));
+	}
+	if (scheme == "libcamera") {
+#ifdef IHF_HAVE_LIBCAMERA
+		Expected<LibcameraUri> parsed = parseLibcameraUri(rest);
+		if (!parsed)
+			return parsed.error();
+		return std::unique_ptr<FrameSource>(
+			std::make_unique<LibcameraSource>(parsed->cameraId, parsed->options, uri));
+#else
+		return makeError(Errc::kUnsupported, "frame source '" + uri +
+							     "': this ihf was built without libcamera (libcamera-dev missing)");
+#endif
 	}
 	return makeError(Errc::kInvalidArgument, "frame source '" + uri + "': unknown scheme '" +
 							 scheme + "'; use " + frameSourceUriHelp());

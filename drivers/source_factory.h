@@ -6,6 +6,9 @@
 //   openni2:              the first OpenNI2 device
 //   openni2:PATH.oni      an OpenNI2 recording
 //   openni2:DEVICE-URI    a given OpenNI2 device (as OpenNI2 lists it)
+//   v4l2:/dev/videoN?...  a V4L2 depth node (drivers/v4l2_source.h)
+//   libcamera:[ID][?...]  a libcamera raw stream (drivers/libcamera_source.h;
+//                         only when built with libcamera)
 // The source comes back unopened: the caller runs open() and start(), and
 // may run them again to reconnect after an error.
 
@@ -22,7 +25,7 @@ namespace ihf {
 struct SourceOptions {
 	Pacing pacing = Pacing::kStep; // files: step, or real time
 	double speed = 1.0; // recordings in real time
-	Clock *clock = nullptr; // recordings in real time; null = steady clock
+	PacingClock *clock = nullptr; // recordings in real time; null = steady clock
 	std::optional<CameraIntrinsics> intrinsics; // OpenNI2: calibration to use
 };
 

@@ -9,6 +9,7 @@
 // a wrong calibration. BOP has no timestamps: frame i (0-based) gets device
 // and host timestamps i / fps.
 
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include <string>
 
 #include "core/dataset/bop_dataset.h"
+#include "core/dataset/atomic_file.h"
 #include "core/dataset/bop_io.h"
 #include "drivers/recording_reader.h"
 #include "drivers/recording_writer.h"
@@ -39,7 +41,41 @@ struct RecordOptions {
 	int maxTimeouts = 5;
 	bool compress = false;
 	bool realTime = false;
+	std::string boxes; // --from-bop: BOP detections of the scene
+	std::string boxesOut; // written as `ihf run` box lines
 };
+
+// The detections of one scene as `ihf run` box lines, one per recorded
+// image (frame index = image id), numbers exact.
+Status writeBoxLines(const std::string &out, const std::vector<Detection> &dets, int sceneId,
+		     const std::map<int, SceneCamera> &images)
+{
+	auto num = [](std::string &s, double v) {
+		char buf[32];
+		auto [p, ec] = std::to_chars(buf, buf + sizeof(buf), v);
+		s.append(buf, ec == std::errc() ? p : buf);
+	};
+	std::string text;
+	for (const auto &[imId, cam] : images) {
+		text += "{\"frame\":" + std::to_string(imId) + ",\"boxes\":[";
+		bool first = true;
+		for (const Detection &d : dets) {
+			if (d.sceneId != sceneId || d.imageId != imId)
+				continue;
+			text += first ? "" : ",";
+			first = false;
+			text += "{\"obj_id\":" + std::to_string(d.categoryId) + ",\"bbox\":[";
+			for (int k = 0; k < 4; ++k) {
+				if (k)
+					text += ",";
+				num(text, d.bbox[k]);
+			}
+			text += "]}";
+		}
+		text += "]}\n";
+	}
+	return writeFileAtomic(out, text);
+}
 
 bool sameCamera(const SceneCamera &a, const SceneCamera &b)
 {
@@ -131,6 +167,18 @@ int recordFromBop(const RecordOptions &o)
 	}
 	std::fprintf(stderr, "ihf record: %lld frames of %s scene %d -> %s\n", static_cast<long long>(n),
 		     o.fromBop.c_str(), sceneId, o.out.c_str());
+	if (!o.boxesOut.empty()) {
+		Expected<std::vector<Detection>> dets = readDetections(o.boxes);
+		if (!dets) {
+			std::fprintf(stderr, "ihf record: %s\n", dets.error().message.c_str());
+			return kExitFailure;
+		}
+		if (Status st = writeBoxLines(o.boxesOut, *dets, sceneId, scene->cameras); !st) {
+			std::fprintf(stderr, "ihf record: %s\n", st.error().message.c_str());
+			return kExitFailure;
+		}
+		std::fprintf(stderr, "ihf record: box lines of %s -> %s\n", o.boxes.c_str(), o.boxesOut.c_str());
+	}
 	return kExitOk;
 }
 
@@ -216,6 +264,10 @@ int runRecord(const RecordOptions &o)
 	}
 	if (o.out.empty()) {
 		std::fprintf(stderr, "ihf record: --out FILE is required\n");
+		return kExitUsage;
+	}
+	if (o.boxes.empty() != o.boxesOut.empty() || (!o.boxes.empty() && o.fromBop.empty())) {
+		std::fprintf(stderr, "ihf record: --boxes and --boxes-out go together, with --from-bop\n");
 		return kExitUsage;
 	}
 	return o.fromBop.empty() ? recordFromSource(o) : recordFromBop(o);
@@ -304,6 +356,8 @@ void addRecordCommand(CLI::App &root, Action &action)
 	cmd->add_option("--max-timeouts", o->maxTimeouts, "--source: give up after this many timeouts in a row")
 		->check(CLI::PositiveNumber);
 	cmd->add_flag("--compress", o->compress, "zlib-compress each frame");
+	cmd->add_option("--boxes", o->boxes, "--from-bop: BOP detections (e.g. DATASET/boxes.json) to convert");
+	cmd->add_option("--boxes-out", o->boxesOut, "--from-bop: write them as `ihf run` box lines (JSON lines)");
 	cmd->add_flag("--real-time", o->realTime, "--source files: play at recorded speed instead of stepping");
 	cmd->callback([&action, o, cmd] {
 		if (cmd->get_subcommands().empty())

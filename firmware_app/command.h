@@ -26,5 +26,7 @@ void addForestCommand(CLI::App &root, Action &action);
 void addTrainCommand(CLI::App &root, Action &action);
 void addEstimateCommand(CLI::App &root, Action &action);
 void addRecordCommand(CLI::App &root, Action &action);
+void addRunCommand(CLI::App &root, Action &action);
+void addDevicesCommand(CLI::App &root, Action &action);
 
 } // namespace ihf::app

@@ -22,6 +22,8 @@ int main(int argc, char **argv)
 	addRenderCommand(root, action);
 	addForestCommand(root, action);
 	addRecordCommand(root, action);
+	addRunCommand(root, action);
+	addDevicesCommand(root, action);
 
 	try {
 		root.parse(argc, argv);

@@ -328,4 +328,117 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	return s;
 }
 
+namespace {
+
+// "scheme:PATH" with a relative PATH becomes relative to base.
+std::string resolveUri(const std::string &uri, const std::filesystem::path &base,
+		       std::initializer_list<const char *> fileSchemes)
+{
+	const size_t colon = uri.find(':');
+	if (colon == std::string::npos)
+		return uri;
+	const std::string scheme = uri.substr(0, colon);
+	const std::filesystem::path rest = uri.substr(colon + 1);
+	for (const char *s : fileSchemes)
+		if (scheme == s && !rest.empty() && rest.is_relative())
+			return scheme + ":" + (base / rest).lexically_normal().string();
+	return uri;
+}
+
+} // namespace
+
+Expected<RunSettings> loadRunConfig(const std::filesystem::path &path)
+{
+	RunSettings s;
+	if (path.empty())
+		return s;
+	auto parsed = openConfig(path, {"source", "boxes", "output", "objects", "estimate", "run"});
+	if (!parsed)
+		return parsed.error();
+	const toml::table &root = *parsed;
+	const std::string file = path.string();
+	const std::filesystem::path base = path.parent_path();
+
+	TableReader src(root["source"].as_table(), file, "source");
+	src.get("uri", s.sourceUri);
+	src.getEnum("pacing", s.realTime, {{"step", false}, {"real_time", true}});
+	src.get("speed", s.speed);
+	src.get("timeout_ms", s.timeoutMs);
+	src.get("max_retries", s.maxRetries);
+	src.get("retry_backoff_ms", s.retryBackoffMs);
+	src.get("retry_backoff_max_ms", s.retryBackoffMaxMs);
+	src.get("usb_watch", s.usbWatch);
+	IHF_SECTION(src);
+
+	TableReader boxes(root["boxes"].as_table(), file, "boxes");
+	boxes.get("input", s.boxes);
+	boxes.get("timeout_ms", s.boxesTimeoutMs);
+	IHF_SECTION(boxes);
+
+	TableReader out(root["output"].as_table(), file, "output");
+	out.get("poses", s.poses);
+	IHF_SECTION(out);
+
+	if (const toml::table *objects = root["objects"].as_table()) {
+		for (const auto &[k, v] : *objects) {
+			const std::string key(k.str());
+			int id = -1;
+			try {
+				size_t used = 0;
+				id = std::stoi(key, &used);
+				if (used != key.size())
+					id = -1;
+			} catch (...) {
+			}
+			if (id < 0)
+				return makeError(Errc::kParse, file + ": objects." + key +
+								       ": keys are object ids (\"20\" = \"bunny.ihf\")");
+			auto forest = v.value_exact<std::string>();
+			if (!forest)
+				return makeError(Errc::kParse, file + ": objects." + key + ": expected a forest file path");
+			std::filesystem::path f = *forest;
+			s.forests[id] = f.is_relative() ? (base / f).lexically_normal() : f;
+		}
+	}
+
+	TableReader est(root["estimate"].as_table(), file, "estimate");
+	std::string estimateConfig;
+	est.get("config", estimateConfig);
+	est.get("iterations", s.iterations);
+	est.get("budget_ms", s.budgetMs);
+	IHF_SECTION(est);
+	if (!estimateConfig.empty()) {
+		s.estimateConfig = estimateConfig;
+		if (s.estimateConfig.is_relative())
+			s.estimateConfig = (base / s.estimateConfig).lexically_normal();
+	}
+
+	TableReader run(root["run"].as_table(), file, "run");
+	run.get("frame_budget_ms", s.frameBudgetMs);
+	run.get("stats_interval_s", s.statsIntervalS);
+	run.get("max_frames", s.maxFrames);
+	IHF_SECTION(run);
+
+	auto positive = [&](bool ok, const char *key) -> Status {
+		if (ok)
+			return {};
+		return makeError(Errc::kParse, file + ": " + key + ": out of range");
+	};
+	for (Status st : {positive(s.speed > 0, "source.speed"), positive(s.timeoutMs > 0, "source.timeout_ms"),
+			  positive(s.maxRetries >= 0, "source.max_retries"),
+			  positive(s.retryBackoffMs >= 0, "source.retry_backoff_ms"),
+			  positive(s.retryBackoffMaxMs >= s.retryBackoffMs, "source.retry_backoff_max_ms"),
+			  positive(s.boxesTimeoutMs >= 0, "boxes.timeout_ms"),
+			  positive(s.frameBudgetMs >= 0, "run.frame_budget_ms"),
+			  positive(s.statsIntervalS >= 0, "run.stats_interval_s"),
+			  positive(s.maxFrames >= 0, "run.max_frames")})
+		if (!st)
+			return st.error();
+
+	s.sourceUri = resolveUri(s.sourceUri, base, {"recording"});
+	s.boxes = resolveUri(s.boxes, base, {"file", "unix"});
+	s.poses = resolveUri(s.poses, base, {"file"});
+	return s;
+}
+
 } // namespace ihf::app

@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-// The TOML configurations of `ihf train` and `ihf estimate` (config/*.toml).
+// The TOML configurations of `ihf train`, `ihf estimate` and `ihf run`
+// (config/*.toml).
 // Every key has a default in code; a file overrides some of them. Unknown
 // keys and wrongly typed values are errors naming the file and the key, so a
 // typo never silently falls back to a default.
 
 #include <filesystem>
+#include <map>
+#include <string>
 
 #include "core/common/expected.h"
 #include "core/estimation/pose_estimator.h"
@@ -33,8 +36,41 @@ struct EstimateSettings {
 	EstimatorLimits limits;
 };
 
+// `ihf run` (config/device.toml). Relative paths in the file (recording:
+// URIs, forests, box and pose files, the estimation config) are relative to
+// the folder of the file.
+struct RunSettings {
+	// [source]
+	std::string sourceUri;
+	bool realTime = false; // recordings: paced by their timestamps, else stepped
+	double speed = 1.0;
+	int timeoutMs = 1000; // per next(); a live source silent this long is reported
+	int maxRetries = 5; // reopen attempts in a row after a source error (0: none)
+	int retryBackoffMs = 200; // wait before the first reopen, doubled each time
+	int retryBackoffMaxMs = 5000;
+	// USB watch: "" off, "any" known depth sensor, or "VID:PID". An unplugged
+	// sensor is waited for (reported) instead of spending reopen attempts.
+	std::string usbWatch;
+	// [boxes]
+	std::string boxes = "stdin"; // "stdin", "file:PATH" or "unix:PATH"
+	int boxesTimeoutMs = 200; // live box inputs: wait for a frame's boxes
+	// [output]
+	std::string poses = "stdout"; // "stdout", "file:PATH" or "socket" (the boxes' unix socket)
+	// [objects] object id -> forest file
+	std::map<int, std::filesystem::path> forests;
+	// [estimate]
+	std::filesystem::path estimateConfig; // empty: defaults
+	int iterations = -1; // overrides the estimation config when >= 0
+	double budgetMs = -1; // per-frame estimation budget; overrides the estimation config when >= 0
+	// [run]
+	double frameBudgetMs = 0; // real time: frames older than this at their turn are dropped; 0: never
+	double statsIntervalS = 5; // periodic stats on stderr; 0: only at the end
+	int64_t maxFrames = 0; // stop after this many frames delivered; 0: no limit
+};
+
 // An empty path gives the defaults.
 Expected<TrainSettings> loadTrainConfig(const std::filesystem::path &path);
 Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path);
+Expected<RunSettings> loadRunConfig(const std::filesystem::path &path);
 
 } // namespace ihf::app

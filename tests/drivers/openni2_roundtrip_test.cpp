@@ -10,6 +10,8 @@
 // finds that copy first through its RUNPATH, and OpenNI2 looks for drivers
 // beside the library it was loaded from.
 
+#include <optional>
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -66,6 +68,12 @@ protected:
 		const std::string env = fs::weakly_canonical(IHF_OPENNI2_ENV).string();
 		ASSERT_EQ(loaded.rfind(env, 0), 0u)
 			<< "libOpenNI2 came from " << loaded << ", not from " << env;
+		// OpenNI2 stays loaded for the whole test: recordOnce() closes the
+		// .oni player, whose thread OpenNI2 cancels; its own shutdown must
+		// not unload the driver while that thread unwinds (a crash seen
+		// in about 1 of 10 parallel runs).
+		session_.emplace();
+		ASSERT_TRUE(session_->ok()) << openni::OpenNI::getExtendedError();
 		// One folder per test: ctest may run them in parallel.
 		dir_ = freshTempDir(std::string("openni2_") +
 				    ::testing::UnitTest::GetInstance()->current_test_info()->name());
@@ -76,6 +84,9 @@ protected:
 		writeStream(rec_, stream_, true, h);
 	}
 
+	void TearDown() override { session_.reset(); }
+
+	std::optional<OpenNi2Session> session_;
 	fs::path dir_;
 	fs::path rec_;
 	TestStream stream_;

@@ -338,7 +338,7 @@ TEST(RecordingWriter, IsAtomicAndValidatesFrames)
 }
 
 // Simulated time: sleeping moves "now" forward; every sleep is logged.
-class FakeClock : public Clock
+class FakeClock : public PacingClock
 {
 public:
 	int64_t nowNs() override { return now; }

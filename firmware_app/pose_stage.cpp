@@ -1,0 +1,132 @@
+// SPDX-License-Identifier: MIT
+#include "firmware_app/pose_stage.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace ihf::app {
+
+PoseStage::PoseStage(std::map<int, const ObjectModel *> models, PoseEstimator &estimator,
+		     const EstimatorConfig &config, BoxFeed &feed, PoseOutput &output, PacingClock &clock,
+		     std::chrono::milliseconds boxesTimeout)
+	: models_(std::move(models)), estimator_(estimator), config_(config), feed_(feed),
+	  output_(output), clock_(clock), boxesTimeout_(boxesTimeout)
+{
+}
+
+Status PoseStage::prepare(const SourceInfo &info)
+{
+	const CameraIntrinsics &k = info.intrinsics;
+	if (k.width <= 0 || k.height <= 0)
+		return makeError(Errc::kInvalidArgument, info.uri + ": source reports no frame size");
+	if (depthMm_.width() != k.width || depthMm_.height() != k.height)
+		depthMm_ = Image<float>(k.width, k.height);
+	return {};
+}
+
+Status PoseStage::process(const Frame &frame, int64_t arrivalNs)
+{
+	++counters_.frames;
+	Expected<BoxWait> waited = feed_.wait(frame.index, boxesTimeout_);
+	if (!waited)
+		return waited.error();
+	for (const std::string &problem : feed_.problems()) {
+		++counters_.inputErrors;
+		if (Status st = output_.writeError(-1, -1, problem); !st)
+			return st;
+	}
+	if (*waited == BoxWait::kShutdown) {
+		interrupted_ = true;
+		return {};
+	}
+	if (*waited != BoxWait::kBoxes || feed_.boxes().empty()) {
+		++counters_.framesWithoutBoxes;
+		return {};
+	}
+
+	const ImageView<const uint16_t> raw = frame.depth;
+	if (raw.width != depthMm_.width() || raw.height != depthMm_.height())
+		return makeError(Errc::kInvalidArgument, "frame " + std::to_string(frame.index) +
+								 ": size differs from the source's");
+	// As BopDataset::loadDepthMm: raw * scale in double, then float.
+	for (int y = 0; y < raw.height; ++y) {
+		const uint16_t *src = raw.row(y);
+		float *dst = depthMm_.view().row(y);
+		for (int x = 0; x < raw.width; ++x)
+			dst[x] = static_cast<float>(src[x] * frame.depthScale);
+	}
+	CameraIntrinsics K = frame.intrinsics;
+	K.width = raw.width;
+	K.height = raw.height;
+
+	// The frame's boxes share the estimator's frame budget.
+	struct FrameScope {
+		PoseEstimator &e;
+		~FrameScope() { e.endFrame(); }
+	} frameScope{estimator_};
+	estimator_.beginFrame(static_cast<int>(feed_.boxes().size()), config_.frameBudgetMs);
+	for (const FrameBox &b : feed_.boxes()) {
+		++counters_.boxes;
+		auto it = models_.find(b.objId);
+		if (it == models_.end()) {
+			++counters_.unknownObject;
+			char msg[64];
+			std::snprintf(msg, sizeof(msg), "no forest for object %d", b.objId);
+			if (Status st = output_.writeError(static_cast<int64_t>(frame.index), b.objId, msg); !st)
+				return st;
+			continue;
+		}
+		// As ihf estimate turns a detection's box into pixels.
+		const PixelBox box{static_cast<int>(std::floor(b.bbox[0])), static_cast<int>(std::floor(b.bbox[1])),
+				   static_cast<int>(std::ceil(b.bbox[2])), static_cast<int>(std::ceil(b.bbox[3]))};
+		if (observer_)
+			observer_->begin(frame.index, b.objId, box);
+		const int64_t t0 = clock_.nowNs();
+		const PoseEstimate e = estimator_.estimate(depthMm_.view(), K, box, *it->second, config_);
+		const int64_t t1 = clock_.nowNs();
+		if (observer_)
+			observer_->end(depthMm_.view(), K, *it->second, e);
+		if (!e.found) {
+			++counters_.noPose;
+			char msg[160];
+			std::snprintf(msg, sizeof(msg), "no pose: %s", e.reason);
+			if (Status st = output_.writeError(static_cast<int64_t>(frame.index), b.objId, msg); !st)
+				return st;
+			continue;
+		}
+		++counters_.poses;
+		PoseLine line;
+		line.frame = frame.index;
+		line.objId = b.objId;
+		line.estimate = &e;
+		line.estimateMs = (t1 - t0) * 1e-6;
+		line.latencyMs = (clock_.nowNs() - arrivalNs) * 1e-6;
+		latencies_[latencyCount_++ % latencies_.size()] = line.latencyMs;
+		if (Status st = output_.writePose(line); !st)
+			return st;
+	}
+	return {};
+}
+
+void PoseStage::describe(std::string &line) const
+{
+	char buf[256];
+	std::snprintf(buf, sizeof(buf), "; boxes %llu poses %llu no-pose %llu unknown-object %llu input-errors %llu",
+		      static_cast<unsigned long long>(counters_.boxes),
+		      static_cast<unsigned long long>(counters_.poses),
+		      static_cast<unsigned long long>(counters_.noPose),
+		      static_cast<unsigned long long>(counters_.unknownObject),
+		      static_cast<unsigned long long>(counters_.inputErrors));
+	line += buf;
+	const size_t n = std::min(latencyCount_, latencies_.size());
+	if (n) {
+		std::vector<double> v(latencies_.begin(), latencies_.begin() + n);
+		std::sort(v.begin(), v.end());
+		std::snprintf(buf, sizeof(buf), "; latency p50 %.1f ms p99 %.1f ms", v[n / 2],
+			      v[std::min(n - 1, static_cast<size_t>(std::ceil(0.99 * n)) - 1)]);
+		line += buf;
+	}
+}
+
+} // namespace ihf::app

@@ -1,0 +1,117 @@
+// SPDX-License-Identifier: MIT
+// config/device.toml: values, relative paths resolved against the file's
+// folder, and errors that name the file and the key.
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "firmware_app/pipeline_config.h"
+#include "tests/common/test_paths.h"
+
+namespace ihf::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path writeConfig(const std::string &name, const std::string &text)
+{
+	const fs::path dir = test::freshTempDir("run_config_" + name);
+	std::ofstream(dir / "device.toml") << text;
+	return dir / "device.toml";
+}
+
+TEST(RunConfig, ReadsEveryKeyAndResolvesRelativePaths)
+{
+	const fs::path file = writeConfig("all", R"(
+[source]
+uri = "recording:data/scene.rec"
+pacing = "real_time"
+speed = 2.0
+timeout_ms = 250
+max_retries = 7
+retry_backoff_ms = 10
+retry_backoff_max_ms = 80
+[boxes]
+input = "unix:run/ihf.sock"
+timeout_ms = 40
+[output]
+poses = "file:out/poses.jsonl"
+[objects]
+20 = "forests/bunny.ihf"
+5 = "/abs/can.ihf"
+[estimate]
+config = "estimate.toml"
+iterations = 3
+[run]
+frame_budget_ms = 66.5
+stats_interval_s = 2
+max_frames = 100
+)");
+	auto s = loadRunConfig(file);
+	ASSERT_TRUE(s.ok()) << s.error().message;
+	const fs::path dir = file.parent_path();
+	EXPECT_EQ(s->sourceUri, "recording:" + (dir / "data/scene.rec").string());
+	EXPECT_TRUE(s->realTime);
+	EXPECT_EQ(s->speed, 2.0);
+	EXPECT_EQ(s->timeoutMs, 250);
+	EXPECT_EQ(s->maxRetries, 7);
+	EXPECT_EQ(s->retryBackoffMs, 10);
+	EXPECT_EQ(s->retryBackoffMaxMs, 80);
+	EXPECT_EQ(s->boxes, "unix:" + (dir / "run/ihf.sock").string());
+	EXPECT_EQ(s->boxesTimeoutMs, 40);
+	EXPECT_EQ(s->poses, "file:" + (dir / "out/poses.jsonl").string());
+	ASSERT_EQ(s->forests.size(), 2u);
+	EXPECT_EQ(s->forests.at(20), dir / "forests/bunny.ihf");
+	EXPECT_EQ(s->forests.at(5), fs::path("/abs/can.ihf"));
+	EXPECT_EQ(s->estimateConfig, dir / "estimate.toml");
+	EXPECT_EQ(s->iterations, 3);
+	EXPECT_EQ(s->frameBudgetMs, 66.5);
+	EXPECT_EQ(s->statsIntervalS, 2.0);
+	EXPECT_EQ(s->maxFrames, 100);
+}
+
+TEST(RunConfig, DevicePathsStayAsGiven)
+{
+	auto s = loadRunConfig(writeConfig("v4l2", "[source]\nuri = \"v4l2:/dev/video0?format=y16\"\n"));
+	ASSERT_TRUE(s.ok());
+	EXPECT_EQ(s->sourceUri, "v4l2:/dev/video0?format=y16");
+	EXPECT_EQ(s->boxes, "stdin");
+	EXPECT_EQ(s->poses, "stdout");
+	EXPECT_FALSE(s->realTime);
+}
+
+TEST(RunConfig, ErrorsNameTheFileAndKey)
+{
+	auto typo = loadRunConfig(writeConfig("typo", "[source]\nurl = \"x\"\n"));
+	ASSERT_FALSE(typo.ok());
+	EXPECT_NE(typo.error().message.find("unknown key source.url"), std::string::npos) << typo.error().message;
+	EXPECT_NE(typo.error().message.find("device.toml"), std::string::npos);
+
+	auto pacing = loadRunConfig(writeConfig("pacing", "[source]\npacing = \"fast\"\n"));
+	ASSERT_FALSE(pacing.ok());
+	EXPECT_NE(pacing.error().message.find("source.pacing"), std::string::npos) << pacing.error().message;
+
+	auto obj = loadRunConfig(writeConfig("obj", "[objects]\nbunny = \"b.ihf\"\n"));
+	ASSERT_FALSE(obj.ok());
+	EXPECT_NE(obj.error().message.find("objects.bunny"), std::string::npos) << obj.error().message;
+
+	auto range = loadRunConfig(writeConfig("range", "[source]\nretry_backoff_ms = 100\nretry_backoff_max_ms = 10\n"));
+	ASSERT_FALSE(range.ok());
+	EXPECT_NE(range.error().message.find("source.retry_backoff_max_ms"), std::string::npos);
+
+	auto section = loadRunConfig(writeConfig("section", "[sources]\n"));
+	ASSERT_FALSE(section.ok());
+	EXPECT_NE(section.error().message.find("unknown section [sources]"), std::string::npos);
+}
+
+TEST(RunConfig, TheBundledDeviceConfigLoads)
+{
+	auto s = loadRunConfig(test::sourceDir() / "config" / "device.toml");
+	ASSERT_TRUE(s.ok()) << s.error().message;
+	EXPECT_FALSE(s->sourceUri.empty());
+	EXPECT_FALSE(s->forests.empty());
+}
+
+} // namespace
+} // namespace ihf::app
