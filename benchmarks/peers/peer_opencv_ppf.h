@@ -12,7 +12,7 @@
 namespace ihf::peers {
 
 struct OpenCvPpfParams {
-	double samplingStep = 0.025;    // model sampling, relative to the model's extent
+	double samplingStep = 0.05;     // model sampling, relative to the model's extent (Drost's tau_d)
 	double distanceStep = 0.05;     // feature distance quantisation, relative
 	int numAngles = 30;             // feature angle quantisation
 	double sceneSampleStep = 0.2;   // share of sampled scene points used as reference points

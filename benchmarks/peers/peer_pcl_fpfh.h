@@ -16,11 +16,11 @@ namespace ihf::peers {
 struct PclFpfhParams {
 	float leaf = 0.05f;            // voxel leaf, relative to the diameter
 	float featureRadius = 0.25f;   // FPFH radius, relative to the diameter (5 leaves)
-	int iterations = 20000;        // RANSAC iterations
+	int iterations = 50000;        // RANSAC iterations (PCL tutorial)
 	int correspondenceRandomness = 5;
 	float similarity = 0.9f;       // edge-length prerejection
-	float maxCorrespondence = 0.075f; // inlier distance, relative to the diameter (1.5 leaves)
-	float inlierFraction = 0.15f;  // of the model's points (a view shows at most about half)
+	float maxCorrespondence = 0.125f; // inlier distance, relative to the diameter (2.5 leaves, PCL tutorial)
+	float inlierFraction = 0.25f;  // of the model's points (PCL tutorial; a view shows at most about half)
 	PclIcpParams icp{0.05f, 30};
 	float icpLeaf = 1.0f / 40.0f;
 };
