@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "drivers/source_factory.h"
 
-#include "drivers/openni2_source.h"
 #include "drivers/v4l2_source.h"
+#ifdef IHF_HAVE_OPENNI2
+#include "drivers/openni2_source.h"
+#endif
 #ifdef IHF_HAVE_LIBCAMERA
 #include "drivers/libcamera_source.h"
 #endif
@@ -11,11 +13,16 @@ namespace ihf {
 
 const char *frameSourceUriHelp()
 {
+#ifdef IHF_HAVE_OPENNI2
 	return "recording:PATH (an ihf .rec file), openni2: (first OpenNI2 device), "
 	       "openni2:PATH.oni (an OpenNI2 recording), openni2:URI (an OpenNI2 device), "
 	       "v4l2:/dev/videoN[?format=z16|y16&width=W&height=H&fps=F&scale=MM&hfov=DEG&fx=..&fy=..&cx=..&cy=..] "
 	       "(a V4L2 depth node), libcamera:[CAMERA-ID][?width=W&height=H&scale=MM&hfov=DEG] "
 	       "(a raw depth/ToF stream; when built with libcamera)";
+#else
+	return "recording:PATH (an ihf .rec file), v4l2:/dev/videoN[?...] (a V4L2 depth node), "
+	       "libcamera:[CAMERA-ID] (when built with libcamera); openni2: is not in this build";
+#endif
 }
 
 Expected<std::unique_ptr<FrameSource>> makeFrameSource(const std::string &uri,
@@ -39,10 +46,16 @@ Expected<std::unique_ptr<FrameSource>> makeFrameSource(const std::string &uri,
 		return std::unique_ptr<FrameSource>(std::make_unique<RecordingSource>(rest, o, uri));
 	}
 	if (scheme == "openni2") {
+#ifdef IHF_HAVE_OPENNI2
 		OpenNi2SourceOptions o;
 		o.realTime = options.pacing == Pacing::kRealTime;
 		o.intrinsics = options.intrinsics;
 		return std::unique_ptr<FrameSource>(std::make_unique<OpenNi2Source>(rest, o, uri));
+#else
+		return makeError(Errc::kUnsupported,
+				 "frame source '" + uri +
+					 "': this ihf was built without OpenNI2 (IHF_WITH_OPENNI2=OFF)");
+#endif
 	}
 	if (scheme == "v4l2") {
 		Expected<V4l2Uri> parsed = parseV4l2Uri(rest);

@@ -11,6 +11,9 @@ CommandResult runIhf(const std::string &args)
 {
 	CommandResult result;
 	std::string cmd = "'" + ihfBinary().string() + "' " + args + " 2>&1";
+#ifdef IHF_TEST_EMULATOR
+	cmd = std::string(IHF_TEST_EMULATOR) + " " + cmd;
+#endif
 	FILE *pipe = popen(cmd.c_str(), "r");
 	if (!pipe)
 		return result;

@@ -129,10 +129,14 @@ inline HoughTree makeTree(int dims, int maxDepth, std::mt19937_64 &rng)
 			n.voteBegin = static_cast<uint32_t>(t.votes.size());
 			n.voteCount = static_cast<uint32_t>(rng() % 6);
 			for (uint32_t k = 0; k < n.voteCount; ++k) {
+				// One draw per declarator: the order of function arguments
+				// is unspecified (GCC differs between amd64 and aarch64),
+				// and the golden file test needs the same forest everywhere.
+				const float ox = off(rng), oy = off(rng), oz = off(rng);
+				const float qw = gauss(rng), qx = gauss(rng), qy = gauss(rng), qz = gauss(rng);
 				Vote v;
-				v.offset = Eigen::Vector3f(off(rng), off(rng), off(rng));
-				v.rotation = Eigen::Quaternionf(gauss(rng), gauss(rng), gauss(rng), gauss(rng))
-						     .normalized();
+				v.offset = Eigen::Vector3f(ox, oy, oz);
+				v.rotation = Eigen::Quaternionf(qw, qx, qy, qz).normalized();
 				t.votes.push_back(v);
 			}
 		}
