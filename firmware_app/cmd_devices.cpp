@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cstdio>
 
+#ifdef IHF_HAVE_OPENNI2
 #include "drivers/openni2_source.h"
+#endif
 #include "drivers/usb_watch.h"
 #include "drivers/v4l2_source.h"
 #ifdef IHF_HAVE_LIBCAMERA
@@ -59,6 +61,7 @@ int runDevices(double watchSeconds)
 	if (nodes.empty())
 		std::printf("v4l2       no capture node in /dev/video*\n");
 
+#ifdef IHF_HAVE_OPENNI2
 	if (Expected<std::vector<std::string>> oni = listOpenNi2Devices(); oni) {
 		for (const std::string &d : *oni) {
 			std::printf("openni2    %s\n", d.c_str());
@@ -69,6 +72,9 @@ int runDevices(double watchSeconds)
 	} else {
 		std::printf("openni2    (%s)\n", oni.error().message.c_str());
 	}
+#else
+	std::printf("openni2    (not built in)\n");
+#endif
 
 #ifdef IHF_HAVE_LIBCAMERA
 	if (Expected<std::vector<std::string>> cams = listLibcameraCameras(); cams) {

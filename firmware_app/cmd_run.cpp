@@ -11,7 +11,9 @@
 #include <optional>
 
 #include "core/model/forest_file.h"
+#ifdef IHF_HAVE_OPENNI2
 #include "drivers/openni2_source.h"
+#endif
 #include "drivers/source_factory.h"
 #include "firmware_app/box_feed.h"
 #include "firmware_app/command.h"
@@ -121,9 +123,11 @@ int runRun(const RunOptions &o)
 
 	// Reconnecting closes and reopens the source: OpenNI2 must not unload
 	// its drivers in between (see OpenNi2Session).
+#ifdef IHF_HAVE_OPENNI2
 	std::optional<OpenNi2Session> openni2;
 	if (rs.sourceUri.rfind("openni2:", 0) == 0)
 		openni2.emplace();
+#endif
 
 	SourceOptions so;
 	so.pacing = rs.realTime ? Pacing::kRealTime : Pacing::kStep;
