@@ -119,9 +119,15 @@ PoseEstimator::BoxScope::~BoxScope()
 	e_.budget_.endBox(now);
 	if (ownFrame_)
 		e_.budget_.endFrame(now);
-	e_.working_ = e_.render_ = {};
-	e_.cloud_ = {};
-	e_.unit_ = e_.normals_ = {};
+	e_.releaseBox();
+}
+
+// Forgets the per-box spans; the arena scope that carved them rewinds.
+void PoseEstimator::releaseBox()
+{
+	working_ = render_ = {};
+	cloud_ = {};
+	unit_ = normals_ = {};
 }
 
 bool PoseEstimator::refinementFits(const EstimatorConfig &config)
@@ -396,9 +402,7 @@ Expected<HypothesisScore> PoseEstimator::scorePose(ImageView<const float> depth,
 	virt.R = crop.rotation.transpose() * pose.R;
 	virt.t = crop.rotation.transpose() * pose.t;
 	HypothesisScore s = score(virt, vk, model, config);
-	working_ = render_ = {};
-	cloud_ = {};
-	unit_ = normals_ = {};
+	releaseBox();
 	return s;
 }
 

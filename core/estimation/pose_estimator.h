@@ -214,6 +214,7 @@ private:
 	bool carvePersistent(A &arena);
 	template<typename A>
 	bool carveBox(A &arena, size_t pixels);
+	void releaseBox();
 	bool refinementFits(const EstimatorConfig &config);
 	bool icpFits();
 
