@@ -43,7 +43,38 @@ class TraceWriter : public EstimateObserver
 {
 public:
 	explicit TraceWriter(std::FILE *f) : f_(f) {}
-	void begin(int scene, int image, int obj) { scene_ = scene, image_ = image, obj_ = obj; }
+	void begin(int scene, int image, int obj, double diameter)
+	{
+		scene_ = scene, image_ = image, obj_ = obj, diameter_ = diameter;
+		truth_.clear();
+	}
+	void addTruth(const Pose &pose) { truth_.push_back(pose); }
+	// Share of the vote weight near a ground-truth pose: rotation within
+	// 20 deg, centre within 0.1 diameter, and both.
+	void onVotes(const VoteEvent &e) override
+	{
+		for (size_t g = 0; g < truth_.size(); ++g) {
+			const Eigen::Matrix3f Rg = (e.cropRotation.transpose() * truth_[g].R).cast<float>();
+			const Eigen::Vector3f tg = (e.cropRotation.transpose() * truth_[g].t).cast<float>();
+			const Eigen::Quaternionf qg(Rg);
+			const float cosHalf = std::cos(0.5f * 20.0f * static_cast<float>(M_PI) / 180.0f);
+			const float near = static_cast<float>(0.1 * diameter_);
+			double all = 0, rot = 0, trans = 0, both = 0;
+			for (const CastVote &v : e.votes) {
+				const bool r = std::abs(v.rotation.dot(qg)) > cosHalf;
+				const bool t = (v.centre - tg).norm() < near;
+				all += v.weight;
+				rot += r ? v.weight : 0;
+				trans += t ? v.weight : 0;
+				both += r && t ? v.weight : 0;
+			}
+			std::fprintf(f_,
+				     "{\"scene_id\":%d,\"im_id\":%d,\"obj_id\":%d,\"iteration\":%d,\"stage\":\"votes\","
+				     "\"pass\":%d,\"truth\":%zu,\"votes\":%zu,\"rot\":%.4f,\"trans\":%.4f,\"both\":%.4f}\n",
+				     scene_, image_, obj_, e.iteration, e.pass, g, e.votes.size(),
+				     all > 0 ? rot / all : 0, all > 0 ? trans / all : 0, all > 0 ? both / all : 0);
+		}
+	}
 	void onHypothesis(const HypothesisEvent &e) override
 	{
 		const Eigen::Matrix3d &R = e.pose.R;
@@ -62,6 +93,8 @@ public:
 private:
 	std::FILE *f_;
 	int scene_ = 0, image_ = 0, obj_ = 0;
+	double diameter_ = 0;
+	std::vector<Pose> truth_;
 };
 
 int runEstimate(const EstimateOptions &o)
@@ -190,12 +223,13 @@ int runEstimate(const EstimateOptions &o)
 			PixelBox box{static_cast<int>(std::floor(d->bbox[0])), static_cast<int>(std::floor(d->bbox[1])),
 				     static_cast<int>(std::ceil(d->bbox[2])), static_cast<int>(std::ceil(d->bbox[3]))};
 			if (trace) {
-				trace->begin(sceneId, imId, d->categoryId);
+				trace->begin(sceneId, imId, d->categoryId, mIt->second->params().diameter);
 				auto gtIt = scene.gt.find(imId);
 				if (gtIt != scene.gt.end())
 					for (const GtInstance &g : gtIt->second) {
 						if (g.objId != d->categoryId)
 							continue;
+						trace->addTruth(g.pose);
 						auto gs = estimator.scorePose(depth->view(), K, box, *mIt->second,
 									      s.estimator, g.pose);
 						if (gs) {

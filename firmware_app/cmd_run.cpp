@@ -102,6 +102,8 @@ int runRun(const RunOptions &o)
 		es->estimator.iterations = rs.iterations;
 	if (rs.budgetMs >= 0)
 		es->estimator.frameBudgetMs = static_cast<float>(rs.budgetMs);
+	else if (rs.estimateConfig.empty())
+		es->estimator.frameBudgetMs = kDeviceFrameBudgetMs;
 
 	std::map<int, std::unique_ptr<ObjectModel>> owned;
 	std::map<int, const ObjectModel *> models;

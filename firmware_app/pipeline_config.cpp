@@ -265,7 +265,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	EstimateSettings s;
 	if (path.empty())
 		return s;
-	auto parsed = openConfig(path, {"refinement", "votes", "score", "icp", "budget", "limits"});
+	auto parsed = openConfig(path, {"refinement", "votes", "score", "icp", "search", "budget", "limits"});
 	if (!parsed)
 		return parsed.error();
 	const toml::table &root = *parsed;
@@ -306,6 +306,13 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	icp.get("max_distance_mm", e.icpConfig.maxDistanceMm);
 	icp.get("min_distance_mm", e.icpConfig.minDistanceMm);
 	IHF_SECTION(icp);
+
+	TableReader search(root["search"].as_table(), file, "search");
+	search.get("levels", e.search.levels);
+	search.get("rotation_step_deg", e.search.rotationStepDeg);
+	search.get("translation_step_mm", e.search.translationStepMm);
+	search.get("max_passes", e.search.maxPasses);
+	IHF_SECTION(search);
 
 	TableReader budget(root["budget"].as_table(), file, "budget");
 	budget.get("frame_ms", e.frameBudgetMs);

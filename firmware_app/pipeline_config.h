@@ -27,11 +27,10 @@ struct TrainSettings {
 	TemplateEncoding encoding = TemplateEncoding::kUint8;
 };
 
+// Offline (`ihf estimate`) defaults to no frame budget, so that accuracy is
+// that of the full method; `ihf run` without an estimation config runs on
+// kDeviceFrameBudgetMs frames.
 struct EstimateSettings {
-	// The pipeline runs under a frame budget by default; the library's
-	// default is unlimited (so its tests do not depend on the machine).
-	EstimateSettings() { estimator.frameBudgetMs = 33.0f; }
-
 	EstimatorConfig estimator;
 	EstimatorLimits limits;
 };
@@ -39,6 +38,8 @@ struct EstimateSettings {
 // `ihf run` (config/device.toml). Relative paths in the file (recording:
 // URIs, forests, box and pose files, the estimation config) are relative to
 // the folder of the file.
+inline constexpr float kDeviceFrameBudgetMs = 33.0f;
+
 struct RunSettings {
 	// [source]
 	std::string sourceUri;

@@ -50,6 +50,7 @@ bool PoseEstimator::carvePersistent(A &arena)
 	       arenaTake(arena, hist_, count(l.maxHistogramDims)) &&
 	       arenaTake(arena, votes_, count(l.maxVotes)) &&
 	       arenaTake(arena, modeScratch_, count(l.maxVotes)) &&
+	       arenaTake(arena, modeSupport_, count(l.maxVotes)) &&
 	       arenaTake(arena, seeds_, count(l.maxModeSeeds)) && arenaTake(arena, modes_, count(l.maxModes)) &&
 	       arenaTake(arena, windowHist_, size_t{1024}) && arenaTake(arena, windows_, size_t{8}) &&
 	       arenaTake(arena, kept_, count(std::max(1, l.maxCandidates)));
@@ -506,8 +507,11 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 			out.votes = votes;
 			if (votes == 0)
 				continue;
+			if (observer_)
+				observer_->onVotes({k, static_cast<int>(pass), cropRotation_,
+						    std::span<const CastVote>(votes_.data(), votes)});
 			size_t modes = findPoseModes(std::span(votes_.data(), votes), modeCfg,
-						     {modeScratch_, seeds_}, modes_.first(modeSlots));
+						     {modeScratch_, seeds_, modeSupport_}, modes_.first(modeSlots));
 			timer_.lap(Stage::kModes);
 			Hypothesis h = scoreModes(k, modes, vk, model, config);
 			timer_.lap(Stage::kScore);
@@ -534,29 +538,45 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	}
 	Hypothesis best = kept_[0];
 
-	// Polish the best distinct hypotheses; each sees the crop cut to its own
-	// depth range, and the best score after ICP wins. Each polish must fit
-	// the budget.
-	const size_t polishCount = config.icp ? std::min(keptCount_, static_cast<size_t>(std::max(0, config.icpCandidates))) : 0;
+	// Polish the best distinct hypotheses: a local search of the score, then
+	// ICP on the crop cut to the hypothesis' own depth range; the best score
+	// wins. Each polish must fit the budget.
+	const bool polish = config.icp || config.search.levels > 0;
+	const size_t polishCount = polish ? std::min(keptCount_, static_cast<size_t>(std::max(0, config.icpCandidates))) : 0;
 	for (size_t c = 0; c < polishCount; ++c) {
 		if (!icpFits()) {
 			out.icpSkipped = true;
 			break;
 		}
 		const int64_t icpStart = timer_.last();
-		const Hypothesis cand = kept_[c];
-		maskToHypothesis(cand.score, config);
-		int n = buildCloud(workingView_, vk, params);
-		IcpResult icp = refineIcp(std::span(cloud_.data(), n), model.mesh(), cand.pose, vk,
-					  renderer_, renderView_, config.icpConfig);
-		if (icp.iterations > 0) {
-			HypothesisScore s = score(icp.pose, vk, model, config);
-			report(cand.iteration, "icp", static_cast<int>(c), icp.pose, s, 0);
-			if (s.score > best.score.score) {
-				best.pose = icp.pose;
-				best.score = s;
-				best.iteration = cand.iteration;
-				out.icpApplied = true;
+		Hypothesis cand = kept_[c];
+		if (config.search.levels > 0) {
+			LocalSearchResult r = localPoseSearch(cand.pose, cand.score.score, config.search,
+							      [&](const Pose &p) { return score(p, vk, model, config).score; });
+			if (r.score > cand.score.score) {
+				cand.pose = r.pose;
+				cand.score = score(r.pose, vk, model, config);
+				report(cand.iteration, "search", static_cast<int>(c), cand.pose, cand.score, 0);
+				if (cand.score.score > best.score.score) {
+					best = cand;
+					out.icpApplied = true;
+				}
+			}
+		}
+		if (config.icp) {
+			maskToHypothesis(cand.score, config);
+			int n = buildCloud(workingView_, vk, params);
+			IcpResult icp = refineIcp(std::span(cloud_.data(), n), model.mesh(), cand.pose, vk,
+						  renderer_, renderView_, config.icpConfig);
+			if (icp.iterations > 0) {
+				HypothesisScore s = score(icp.pose, vk, model, config);
+				report(cand.iteration, "icp", static_cast<int>(c), icp.pose, s, 0);
+				if (s.score > best.score.score) {
+					best.pose = icp.pose;
+					best.score = s;
+					best.iteration = cand.iteration;
+					out.icpApplied = true;
+				}
 			}
 		}
 		// The cost model sees the whole polish (its cloud is counted

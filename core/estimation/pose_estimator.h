@@ -42,6 +42,7 @@
 #include "core/features/unit_cube_frame.h"
 #include "core/ibs/ibs_fitter.h"
 #include "core/model/object_model.h"
+#include "core/pose/local_pose_search.h"
 #include "core/pose/vote_modes.h"
 #include "core/render/depth_renderer.h"
 #include "core/runtime/arena.h"
@@ -67,8 +68,10 @@ struct EstimatorConfig {
 	int partStride = 0; // 0: the model's training stride
 	int targetParts = 600; // wider stride when a box would give more parts; 0: off
 	bool icp = true;
-	int icpCandidates = 8; // distinct best hypotheses polished by ICP
+	int icpCandidates = 8; // distinct best hypotheses polished (search, ICP)
 	IcpConfig icpConfig;
+	// Score hill climbing of the polished hypotheses before their ICP.
+	LocalSearchConfig search;
 	ScoreConfig score;
 	int minValidPixels = 60;
 	// Refinement normalises with the unit cube of the whole rendered
@@ -105,11 +108,21 @@ struct HypothesisEvent {
 	float voteDensity = 0;
 };
 
+// The votes of one pass, before mode finding (debugging: does the forest
+// vote for the true pose at all, or does mode finding lose it?).
+struct VoteEvent {
+	int iteration = 0;
+	int pass = 0;                       // depth window of the initial registration
+	Eigen::Matrix3d cropRotation;       // virtual crop camera -> real camera
+	std::span<const CastVote> votes;    // in the virtual crop camera
+};
+
 class EstimateObserver
 {
 public:
 	virtual ~EstimateObserver() = default;
 	virtual void onHypothesis(const HypothesisEvent &event) = 0;
+	virtual void onVotes(const VoteEvent &) {}
 };
 
 struct PoseEstimate {
@@ -241,6 +254,7 @@ private:
 	std::span<float> hist_;
 	std::span<CastVote> votes_;
 	std::span<float> modeScratch_;
+	std::span<uint32_t> modeSupport_;
 	std::span<Eigen::Vector3f> seeds_;
 	std::span<PoseMode> modes_;
 	std::span<int> windowHist_;

@@ -12,6 +12,9 @@ namespace ihf {
 
 namespace {
 
+constexpr int kMaxRotationClusters = 128;
+constexpr int kMaxRotationSeeds = 32;
+
 Eigen::Quaternionf principalQuaternion(const Eigen::Matrix4f &m)
 {
 	Eigen::SelfAdjointEigenSolver<Eigen::Matrix4f> es(m);
@@ -138,62 +141,63 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 	// processed (slot m*R >= m).
 	const float rs = config.rotationBandwidth;
 	const float invR = 1.0f / (2.0f * rs * rs);
+	const float cosCluster = std::cos(0.5f * rs); // quaternion dot at angle rs
 	std::span<float> w = ws.scratch.first(votes.size());
+	std::span<uint32_t> sup = ws.support.first(std::min(ws.support.size(), votes.size()));
 	size_t written = 0;
 	for (size_t mm = found; mm-- > 0;) {
 		const PoseMode centre = modes[mm];
 		float support = 0;
+		size_t ns = 0;
 		for (size_t i = 0; i < votes.size(); ++i) {
 			float d2 = (votes[i].centre - centre.centre).squaredNorm();
 			bool in = votes[i].weight > 0 && d2 <= support2;
 			w[i] = in ? votes[i].weight * std::exp(-d2 * inv2s2) : 0.0f;
 			support += in ? votes[i].weight : 0.0f;
+			if (in && ns < sup.size())
+				sup[ns++] = static_cast<uint32_t>(i);
 		}
-		// Seeds: the heaviest supporting votes, plus votes at an even stride
-		// over the support so that weaker rotation clusters get a seed too.
-		constexpr int kHeavy = 8, kRotSeeds = 20;
-		size_t seedIdx[kRotSeeds];
-		int nSeeds = 0;
-		size_t supporting = 0;
-		for (size_t i = 0; i < votes.size() && support > 0; ++i) {
-			if (w[i] <= 0)
-				continue;
-			++supporting;
-			if (nSeeds < kHeavy) {
-				seedIdx[nSeeds++] = i;
-			} else {
-				int weakest = 0;
-				for (int j = 1; j < kHeavy; ++j)
-					if (w[seedIdx[j]] < w[seedIdx[weakest]])
-						weakest = j;
-				if (w[i] > w[seedIdx[weakest]])
-					seedIdx[weakest] = i;
+		// Seeds: a greedy clustering of the supporting rotations, heaviest
+		// vote first, one cluster per rotation bandwidth; the heaviest
+		// clusters seed the mean shift. Weak but distinct rotations thus
+		// get seeds even when one cluster holds most votes.
+		std::sort(sup.begin(), sup.begin() + ns, [&](uint32_t a, uint32_t b) { return w[a] > w[b]; });
+		Eigen::Quaternionf clusterQ[kMaxRotationClusters];
+		float clusterW[kMaxRotationClusters];
+		int nClusters = 0;
+		for (size_t k = 0; k < ns; ++k) {
+			const Eigen::Quaternionf &q = votes[sup[k]].rotation;
+			int c = 0;
+			while (c < nClusters && std::abs(q.dot(clusterQ[c])) < cosCluster)
+				++c;
+			if (c < nClusters) {
+				clusterW[c] += w[sup[k]];
+			} else if (nClusters < kMaxRotationClusters) {
+				clusterQ[nClusters] = q;
+				clusterW[nClusters++] = w[sup[k]];
 			}
 		}
-		if (supporting > static_cast<size_t>(kHeavy)) {
-			const size_t stride = std::max<size_t>(1, supporting / (kRotSeeds - kHeavy));
-			size_t k = 0;
-			for (size_t i = 0; i < votes.size() && nSeeds < kRotSeeds; ++i)
-				if (w[i] > 0 && k++ % stride == stride / 2)
-					seedIdx[nSeeds++] = i;
-		}
-		Eigen::Quaternionf found_q[kRotSeeds];
-		float found_d[kRotSeeds];
+		int clusterOrder[kMaxRotationClusters];
+		for (int j = 0; j < nClusters; ++j)
+			clusterOrder[j] = j;
+		std::sort(clusterOrder, clusterOrder + nClusters,
+			  [&](int a, int b) { return clusterW[a] > clusterW[b]; });
+		const int nSeeds = std::min({nClusters, kMaxRotationSeeds, std::max(8, 2 * perCentre)});
+		Eigen::Quaternionf found_q[kMaxRotationSeeds];
+		float found_d[kMaxRotationSeeds];
 		int nFound = 0;
 		for (int sIdx = 0; sIdx < nSeeds; ++sIdx) {
-			Eigen::Quaternionf q = votes[seedIdx[sIdx]].rotation;
+			Eigen::Quaternionf q = clusterQ[clusterOrder[sIdx]];
 			float density = 0;
 			for (int it = 0; it < config.maxIterations; ++it) {
 				Eigen::Matrix4f acc = Eigen::Matrix4f::Zero();
 				density = 0;
-				for (size_t i = 0; i < votes.size(); ++i) {
-					if (w[i] <= 0)
-						continue;
-					float a = quatAngle(q, votes[i].rotation);
-					float kk = w[i] * std::exp(-a * a * invR);
+				for (size_t k = 0; k < ns; ++k) {
+					const CastVote &v = votes[sup[k]];
+					float a = quatAngle(q, v.rotation);
+					float kk = w[sup[k]] * std::exp(-a * a * invR);
 					density += kk;
-					acc.noalias() += kk * votes[i].rotation.coeffs() *
-							 votes[i].rotation.coeffs().transpose();
+					acc.noalias() += kk * v.rotation.coeffs() * v.rotation.coeffs().transpose();
 				}
 				Eigen::Quaternionf nq = principalQuaternion(acc);
 				bool done = quatAngle(nq, q) < 1e-3f;
@@ -215,10 +219,10 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 			}
 		}
 		// Densest first.
-		int order[kRotSeeds];
+		int order[kMaxRotationSeeds];
 		for (int j = 0; j < nFound; ++j)
 			order[j] = j;
-		for (int j = 1; j < nFound; ++j) // insertion sort: at most kRotSeeds
+		for (int j = 1; j < nFound; ++j) // insertion sort: at most kMaxRotationSeeds
 			for (int i = j; i > 0 && found_d[order[i]] > found_d[order[i - 1]]; --i)
 				std::swap(order[i], order[i - 1]);
 		const int keep = std::max(1, std::min(perCentre, nFound));

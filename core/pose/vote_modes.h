@@ -9,6 +9,7 @@
 // average (Markley) of the converged cluster. Caller-provided buffers only.
 
 #include <cstddef>
+#include <cstdint>
 #include <span>
 
 #include <Eigen/Core>
@@ -31,7 +32,7 @@ struct VoteModeConfig {
 	float mergeDistance = 0.5f; // in translation bandwidths
 	// Distinct rotation modes kept per translation mode (a part seen from
 	// two symmetric-looking sides votes for both; the renderer decides).
-	int rotationModesPerCentre = 1;
+	int rotationModesPerCentre = 1; // at most 16
 };
 
 struct PoseMode {
@@ -46,6 +47,7 @@ struct PoseMode {
 struct VoteModeWorkspace {
 	std::span<float> scratch; // >= votes
 	std::span<Eigen::Vector3f> seeds; // >= maxSeeds
+	std::span<uint32_t> support; // >= votes (supporting votes of a centre)
 };
 
 // Writes up to modes.size() modes ranked by translation density, each

@@ -113,5 +113,25 @@ TEST(RunConfig, TheBundledDeviceConfigLoads)
 	EXPECT_FALSE(s->forests.empty());
 }
 
+// Offline estimation measures the full method: no budget unless configured,
+// and the bundled estimation config agrees with the library's defaults.
+TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
+{
+	auto none = loadEstimateConfig({});
+	ASSERT_TRUE(none.ok());
+	EXPECT_EQ(none->estimator.frameBudgetMs, 0.0f);
+	auto bundled = loadEstimateConfig(test::sourceDir() / "config" / "estimate.toml");
+	ASSERT_TRUE(bundled.ok()) << bundled.error().message;
+	const EstimatorConfig &a = none->estimator, &b = bundled->estimator;
+	EXPECT_EQ(a.iterations, b.iterations);
+	EXPECT_EQ(a.depthWindows, b.depthWindows);
+	EXPECT_EQ(a.maxHypotheses, b.maxHypotheses);
+	EXPECT_EQ(a.rotationModes, b.rotationModes);
+	EXPECT_EQ(a.icp, b.icp);
+	EXPECT_EQ(a.icpCandidates, b.icpCandidates);
+	EXPECT_EQ(a.targetParts, b.targetParts);
+	EXPECT_EQ(a.frameBudgetMs, b.frameBudgetMs);
+}
+
 } // namespace
 } // namespace ihf::app
