@@ -2,7 +2,9 @@
 #include "core/pose/vote_modes.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Eigenvalues>
 
@@ -25,28 +27,89 @@ Eigen::Quaternionf principalQuaternion(const Eigen::Matrix4f &m)
 	return q;
 }
 
-// Gaussian-weighted mean of the centres around x; returns the kernel mass.
-float meanShiftStep(std::span<const CastVote> votes, const Eigen::Vector3f &x, float inv2s2,
-		    float cutoff2, Eigen::Vector3f &out)
+// Votes binned on a grid of cutoff-sized cells, as a list of vote indices
+// sorted by cell key: a mean-shift step visits the 27 cells around x
+// instead of every vote.
+class VoteGrid
 {
-	Eigen::Vector3f acc = Eigen::Vector3f::Zero();
-	float mass = 0;
-	for (const auto &v : votes) {
-		if (v.weight <= 0)
-			continue;
-		float d2 = (v.centre - x).squaredNorm();
-		if (d2 > cutoff2)
-			continue;
-		float k = v.weight * std::exp(-d2 * inv2s2);
-		acc += k * v.centre;
-		mass += k;
+public:
+	// keys: scratch for one key per vote (floats holding the key's bits:
+	// the workspace's scratch, free until the rotation modes).
+	VoteGrid(std::span<const CastVote> votes, std::span<uint32_t> order, std::span<float> keys, float cell)
+		: votes_(votes), keys_(keys), inv_(1.0f / cell)
+	{
+		origin_ = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
+		for (const auto &v : votes)
+			if (v.weight > 0)
+				origin_ = origin_.cwiseMin(v.centre);
+		size_t n = 0;
+		for (size_t i = 0; i < votes.size() && n < order.size(); ++i)
+			if (votes[i].weight > 0)
+				order[n++] = static_cast<uint32_t>(i);
+		order_ = order.first(n);
+		for (uint32_t i : order_)
+			keys_[i] = std::bit_cast<float>(key(votes[i].centre));
+		std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) { return keyOf(a) < keyOf(b); });
 	}
-	if (mass > 0)
-		out = acc / mass;
-	else
-		out = x;
-	return mass;
-}
+
+	// Gaussian-weighted mean of the centres around x; returns the kernel mass.
+	float meanShiftStep(const Eigen::Vector3f &x, float inv2s2, float cutoff2, Eigen::Vector3f &out) const
+	{
+		Eigen::Vector3f acc = Eigen::Vector3f::Zero();
+		float mass = 0;
+		const Eigen::Vector3i c = cellOf(x);
+		for (int dz = -1; dz <= 1; ++dz)
+			for (int dy = -1; dy <= 1; ++dy) {
+				// The three cells along x are consecutive keys.
+				const Eigen::Vector3i lo(c.x() - 1, c.y() + dy, c.z() + dz);
+				if (!inRange(lo.y()) || !inRange(lo.z()))
+					continue;
+				const uint32_t k0 = packed(Eigen::Vector3i(std::max(lo.x(), 0), lo.y(), lo.z()));
+				const uint32_t k1 = packed(Eigen::Vector3i(std::min(c.x() + 1, kMaxCell), lo.y(), lo.z()));
+				auto first = std::lower_bound(order_.begin(), order_.end(), k0,
+							      [&](uint32_t i, uint32_t k) { return keyOf(i) < k; });
+				for (auto it = first; it != order_.end(); ++it) {
+					if (keyOf(*it) > k1)
+						break;
+					const CastVote &v = votes_[*it];
+					const float d2 = (v.centre - x).squaredNorm();
+					if (d2 > cutoff2)
+						continue;
+					const float k = v.weight * std::exp(-d2 * inv2s2);
+					acc += k * v.centre;
+					mass += k;
+				}
+			}
+		out = mass > 0 ? Eigen::Vector3f(acc / mass) : x;
+		return mass;
+	}
+
+private:
+	static constexpr int kMaxCell = 1023; // 10 bits per axis
+	static bool inRange(int i) { return i >= 0 && i <= kMaxCell; }
+	Eigen::Vector3i cellOf(const Eigen::Vector3f &p) const
+	{
+		const Eigen::Vector3f f = ((p - origin_) * inv_).array().floor().max(-1.0f).min(kMaxCell + 1.0f);
+		return f.cast<int>();
+	}
+	static uint32_t packed(const Eigen::Vector3i &c)
+	{
+		return static_cast<uint32_t>(c.z()) << 20 | static_cast<uint32_t>(c.y()) << 10 |
+		       static_cast<uint32_t>(c.x());
+	}
+	uint32_t key(const Eigen::Vector3f &p) const
+	{
+		return packed(cellOf(p).cwiseMax(0).cwiseMin(kMaxCell));
+	}
+
+	uint32_t keyOf(uint32_t vote) const { return std::bit_cast<uint32_t>(keys_[vote]); }
+
+	std::span<const CastVote> votes_;
+	std::span<float> keys_;
+	std::span<uint32_t> order_;
+	Eigen::Vector3f origin_;
+	float inv_;
+};
 
 } // namespace
 
@@ -96,17 +159,29 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 	const size_t centreCap = modes.size() / perCentre;
 	size_t found = 0;
 	const float merge2 = config.mergeDistance * h * config.mergeDistance * h;
+	const VoteGrid grid(votes, ws.support, ws.scratch, cutoff);
 	for (size_t i = 0; i < s; ++i) {
 		Eigen::Vector3f x = ws.seeds[i], next;
 		float mass = 0;
-		for (int it = 0; it < config.maxIterations; ++it) {
-			mass = meanShiftStep(votes, x, inv2s2, cutoff2, next);
+		// A seed that reaches a mode already found climbs no further.
+		const auto nearFound = [&](const Eigen::Vector3f &p) {
+			for (size_t m = 0; m < found; ++m)
+				if ((modes[m].centre - p).squaredNorm() < merge2)
+					return true;
+			return false;
+		};
+		bool reached = false;
+		for (int it = 0; it < config.maxIterations && !reached; ++it) {
+			mass = grid.meanShiftStep(x, inv2s2, cutoff2, next);
 			bool done = (next - x).squaredNorm() < 1e-4f * h * h;
 			x = next;
+			reached = nearFound(x);
 			if (done)
 				break;
 		}
-		mass = meanShiftStep(votes, x, inv2s2, cutoff2, next);
+		if (reached)
+			continue;
+		mass = grid.meanShiftStep(x, inv2s2, cutoff2, next);
 		bool merged = false;
 		for (size_t m = 0; m < found; ++m) {
 			if ((modes[m].centre - x).squaredNorm() < merge2) {
@@ -142,6 +217,7 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 	const float rs = config.rotationBandwidth;
 	const float invR = 1.0f / (2.0f * rs * rs);
 	const float cosCluster = std::cos(0.5f * rs); // quaternion dot at angle rs
+	const float cosCutoff = std::cos(std::min(1.5f * rs, 0.5f * static_cast<float>(M_PI)));
 	std::span<float> w = ws.scratch.first(votes.size());
 	std::span<uint32_t> sup = ws.support.first(std::min(ws.support.size(), votes.size()));
 	size_t written = 0;
@@ -194,6 +270,9 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 				density = 0;
 				for (size_t k = 0; k < ns; ++k) {
 					const CastVote &v = votes[sup[k]];
+					// Beyond three bandwidths the kernel is < 1.2e-2.
+					if (std::abs(q.dot(v.rotation)) < cosCutoff)
+						continue;
 					float a = quatAngle(q, v.rotation);
 					float kk = w[sup[k]] * std::exp(-a * a * invR);
 					density += kk;
