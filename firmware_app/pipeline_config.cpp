@@ -294,6 +294,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	TableReader score(root["score"].as_table(), file, "score");
 	score.get("inlier_mm", e.score.inlierMm);
 	score.get("occluded_weight", e.score.occludedWeight);
+	score.get("outlier_weight", e.score.outlierWeight);
 	score.get("box_weight", e.score.boxWeight);
 	score.get("box_min_fill", e.score.boxMinFill);
 	score.get("box_margin", e.score.boxMargin);
@@ -312,6 +313,10 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	search.get("rotation_step_deg", e.search.rotationStepDeg);
 	search.get("translation_step_mm", e.search.translationStepMm);
 	search.get("max_passes", e.search.maxPasses);
+	search.get("bank_viewpoints", e.bank.viewpoints);
+	search.get("bank_inplane", e.bank.inplane);
+	search.get("bank_centres", e.bank.centres);
+	search.get("bank_keep", e.bank.keep);
 	IHF_SECTION(search);
 
 	TableReader budget(root["budget"].as_table(), file, "budget");

@@ -37,7 +37,7 @@ HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const
 		s.depthMin = lo;
 		s.depthMax = hi;
 	}
-	float denom = s.inliers + s.outliers + config.occludedWeight * s.occluded;
+	float denom = s.inliers + config.outlierWeight * s.outliers + config.occludedWeight * s.occluded;
 	s.depthScore = denom > 0 ? s.inliers / denom : 0.0f;
 	s.score = s.depthScore;
 	return s;

@@ -19,6 +19,10 @@ namespace ihf {
 
 struct ScoreConfig {
 	float inlierMm = 10.0f;
+	// Depth score = inliers / (inliers + wOut outliers + wOcc occluded).
+	// An outlier (the scene seen through the model) cannot happen at the
+	// true pose; an occluded pixel (something in front) often does.
+	float outlierWeight = 1.0f;
 	float occludedWeight = 0.5f;
 	// Agreement with the given box, which is taken to enclose the whole
 	// object (an amodal detection, as LM-O's bbox_obj): the score is

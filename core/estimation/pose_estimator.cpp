@@ -215,6 +215,59 @@ void PoseEstimator::keep(const Hypothesis &h, float sameTranslationMm)
 	kept_[pos] = h;
 }
 
+// Scores every bank rotation at each of the best distinct translations
+// found so far and keeps the best few of each (kept_ is then re-ranked by
+// keep()). Runs under the polish's budget check.
+void PoseEstimator::searchRotationBank(const CameraIntrinsics &K, const ObjectModel &model,
+				       const EstimatorConfig &config)
+{
+	constexpr int kMaxCentres = 4, kMaxKeep = 8;
+	const double diameter = model.params().diameter;
+	Eigen::Vector3d centres[kMaxCentres];
+	int nc = 0;
+	for (size_t i = 0; i < keptCount_ && nc < std::min(kMaxCentres, config.bank.centres); ++i) {
+		bool seen = false;
+		for (int j = 0; j < nc; ++j)
+			seen = seen || (centres[j] - kept_[i].pose.t).norm() < 0.1 * diameter;
+		if (!seen)
+			centres[nc++] = kept_[i].pose.t;
+	}
+	const int size = rotationBankSize(config.bank);
+	const int keepN = std::clamp(config.bank.keep, 1, kMaxKeep);
+	const float same = static_cast<float>(0.05 * diameter);
+	for (int c = 0; c < nc; ++c) {
+		if (!budget_.fits(timer_.now(), costs_.average(Stage::kBank))) {
+			++budgetStops_;
+			return;
+		}
+		const int64_t start = timer_.last();
+		Hypothesis top[kMaxKeep];
+		int nt = 0;
+		for (int i = 0; i < size; ++i) {
+			Hypothesis h;
+			h.pose.R = rotationBankEntry(config.bank, i);
+			h.pose.t = centres[c];
+			h.score = score(h.pose, K, model, config);
+			h.iteration = config.iterations + 1;
+			h.valid = true;
+			int pos = nt;
+			while (pos > 0 && top[pos - 1].score.score < h.score.score)
+				--pos;
+			if (pos >= keepN)
+				continue;
+			for (int j = std::min(nt, keepN - 1); j > pos; --j)
+				top[j] = top[j - 1];
+			top[pos] = h;
+			nt = std::min(nt + 1, keepN);
+		}
+		for (int j = 0; j < nt; ++j) {
+			report(top[j].iteration, "bank", j, top[j].pose, top[j].score, 0);
+			keep(top[j], same);
+		}
+		costs_.observe(Stage::kBank, timer_.lap(Stage::kBank) - start);
+	}
+}
+
 int PoseEstimator::buildCloud(ImageView<const float> depth, const CameraIntrinsics &K,
 			      const ModelParams &params)
 {
@@ -536,6 +589,8 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		out.reason = "no vote mode (no parts could be described)";
 		return out;
 	}
+	if (rotationBankSize(config.bank) > 0)
+		searchRotationBank(vk, model, config);
 	Hypothesis best = kept_[0];
 
 	// Polish the best distinct hypotheses: a local search of the score, then

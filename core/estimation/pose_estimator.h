@@ -43,6 +43,7 @@
 #include "core/ibs/ibs_fitter.h"
 #include "core/model/object_model.h"
 #include "core/pose/local_pose_search.h"
+#include "core/pose/rotation_bank.h"
 #include "core/pose/vote_modes.h"
 #include "core/render/depth_renderer.h"
 #include "core/runtime/arena.h"
@@ -72,6 +73,10 @@ struct EstimatorConfig {
 	IcpConfig icpConfig;
 	// Score hill climbing of the polished hypotheses before their ICP.
 	LocalSearchConfig search;
+	// Every bank rotation scored at the best distinct translations after
+	// the refinement; the best join the hypotheses to polish. Not in the
+	// paper (its rotation comes from the votes alone).
+	RotationBankConfig bank;
 	ScoreConfig score;
 	int minValidPixels = 60;
 	// Refinement normalises with the unit cube of the whole rendered
@@ -213,6 +218,8 @@ private:
 	Hypothesis scoreModes(int iteration, size_t modeCount, const CameraIntrinsics &K,
 			      const ObjectModel &model, const EstimatorConfig &config);
 	void keep(const Hypothesis &h, float sameTranslationMm);
+	void searchRotationBank(const CameraIntrinsics &K, const ObjectModel &model,
+				const EstimatorConfig &config);
 	void report(int iteration, const char *stage, int rank, const Pose &virtualPose,
 		    const HypothesisScore &s, float density) const;
 	HypothesisScore score(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model,

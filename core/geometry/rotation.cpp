@@ -20,17 +20,21 @@ Eigen::Matrix3d lookAtRotation(const Eigen::Vector3d &viewDir, double inplane)
 	return roll * camFromModel;
 }
 
+Eigen::Vector3d fibonacciDirection(int i, int count)
+{
+	const double golden = M_PI * (3.0 - std::sqrt(5.0));
+	const double z = 1.0 - (2.0 * i + 1.0) / count;
+	const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+	const double a = golden * i;
+	return {r * std::cos(a), r * std::sin(a), z};
+}
+
 std::vector<Eigen::Vector3d> fibonacciSphere(int count)
 {
 	std::vector<Eigen::Vector3d> dirs;
 	dirs.reserve(count);
-	const double golden = M_PI * (3.0 - std::sqrt(5.0));
-	for (int i = 0; i < count; ++i) {
-		double z = 1.0 - (2.0 * i + 1.0) / count;
-		double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-		double a = golden * i;
-		dirs.emplace_back(r * std::cos(a), r * std::sin(a), z);
-	}
+	for (int i = 0; i < count; ++i)
+		dirs.push_back(fibonacciDirection(i, count));
 	return dirs;
 }
 

@@ -39,6 +39,9 @@ inline Eigen::Matrix3d rayAlignment(const Eigen::Vector3d &dir)
 // origin, rotated in-plane by `inplane` radians about the optical axis.
 Eigen::Matrix3d lookAtRotation(const Eigen::Vector3d &viewDir, double inplane);
 
+// Direction i of a Fibonacci lattice of count points (no allocation).
+Eigen::Vector3d fibonacciDirection(int i, int count);
+
 // Quasi-uniform directions on the sphere (Fibonacci lattice).
 std::vector<Eigen::Vector3d> fibonacciSphere(int count);
 

@@ -179,6 +179,11 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 	cfg.iterations = 2;
 	cfg.icp = true;
 	cfg.partStride = 8; // fewer parts and votes than the model's 4: a faster test, the same code
+	// Every third frame also runs the optional rotation bank and score search.
+	EstimatorConfig searching = cfg;
+	searching.bank = RotationBankConfig{10, 4, 1, 2};
+	searching.search.levels = 1;
+	searching.search.maxPasses = 1;
 
 	constexpr int kWarmUp = 4, kFrames = 100;
 	int found = 0, noPose = 0, synthApeGood = 0, synthApeBoxes = 0, budgetStops = 0, icpRuns = 0;
@@ -195,7 +200,8 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 		estimator.beginFrame(static_cast<int>(frame.boxes.size()) + 1, budget);
 		for (size_t b = 0; b < frame.boxes.size(); ++b) {
 			const FrameBox &fb = frame.boxes[b];
-			PoseEstimate e = estimator.estimate(frame.depth, frame.K, shifted(fb.box, dx, dy), *fb.model, cfg);
+			PoseEstimate e = estimator.estimate(frame.depth, frame.K, shifted(fb.box, dx, dy), *fb.model,
+							    f % 3 == 0 ? searching : cfg);
 			found += e.found;
 			noPose += !e.found;
 			budgetStops += e.budgetStopped;
@@ -225,6 +231,7 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 	EstimatorStats s = estimator.stats();
 	EXPECT_EQ(s.frames, static_cast<uint64_t>(kWarmUp + kFrames));
 	EXPECT_GE(s.iterations, static_cast<uint64_t>(kFrames));
+	EXPECT_GT(s.stages[static_cast<int>(Stage::kBank)].calls, 0u);
 	std::printf("frames %d, boxes found %d, no pose %d, budget stops %d, arena used %zu of %zu bytes\n",
 		    kWarmUp + kFrames, found, noPose, budgetStops, s.arenaHighWater, s.arenaCapacity);
 	for (int i = 0; i < kStageCount; ++i)
