@@ -64,8 +64,18 @@ std::string evalReportJson(const EvalReport &report)
 		objects.push_back(std::move(o));
 	}
 
+	json estimates = json::array();
+	for (const EstimateOutcome &e : report.estimates)
+		estimates.push_back({{"scene_id", e.sceneId},
+				     {"im_id", e.imId},
+				     {"obj_id", e.objId},
+				     {"score", e.score},
+				     {"matched", e.matched},
+				     {"error_mm", e.matched ? json(e.error) : json(nullptr)}});
+
 	json doc = {
 		{"z_values", report.zValues},
+		{"estimates", std::move(estimates)},
 		{"recall_z", kRecallZ},
 		{"objects", std::move(objects)},
 		{"mean",

@@ -142,20 +142,25 @@ EvalReport evaluatePoses(const std::map<int, EvalObject> &objects,
 	};
 	std::map<int, Acc> acc;
 	std::map<ImageKey, double> allTimes;
+	std::vector<EstimateOutcome> perEstimate;
 	for (const Group &g : groups) {
 		Acc &a = acc[g.objId];
 		a.numGt += g.gts.size();
 		for (size_t e = 0; e < g.estimates.size(); ++e) {
 			const ResultRow &row = estimates[g.estimates[e]];
 			a.outcomes.push_back({row.score, g.match.estimateError[e]});
-			if (g.match.gtOfEstimate[e] >= 0)
+			const bool matched = g.match.gtOfEstimate[e] >= 0;
+			if (matched)
 				++a.numMatched;
+			perEstimate.push_back({row.sceneId, row.imId, row.objId, row.score, matched,
+					       matched ? g.match.estimateError[e] : 0.0});
 			addImageTime(a.times, row);
 			addImageTime(allTimes, row);
 		}
 	}
 
 	EvalReport report;
+	report.estimates = std::move(perEstimate);
 	report.zValues = zValues;
 	report.meanF1PerZ.assign(zValues.size(), 0.0);
 	for (const auto &[objId, object] : objects) {

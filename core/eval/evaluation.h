@@ -68,6 +68,16 @@ struct ObjectEvalResult {
 	std::vector<std::vector<PrPoint>> curves; // per z value
 };
 
+// One estimate's pose error against the ground truth it was matched to.
+struct EstimateOutcome {
+	int sceneId = 0;
+	int imId = 0;
+	int objId = 0;
+	double score = 0;
+	bool matched = false;
+	double error = 0; // mm (ADD or ADI), meaningful when matched
+};
+
 struct EvalReport {
 	std::vector<double> zValues;
 	std::vector<ObjectEvalResult> objects; // ascending object id
@@ -79,6 +89,7 @@ struct EvalReport {
 	size_t numGt = 0;
 	size_t numEstimates = 0;
 	size_t numIgnored = 0; // estimates outside the evaluated set (dataset layer)
+	std::vector<EstimateOutcome> estimates; // every evaluated estimate
 };
 
 // Scores `estimates` against `gts` for every object in `objects` (also those

@@ -136,12 +136,22 @@ TEST(Evaluation, DuplicateInOneImageIsAFalsePositive)
 	EXPECT_DOUBLE_EQ(o.curves[5][1].precision, 0.5);
 	EXPECT_EQ(o.recall, 1.0);
 
+	// Every estimate's outcome is reported: the first matched with no error.
+	ASSERT_EQ(r.estimates.size(), 2u);
+	EXPECT_TRUE(r.estimates[0].matched);
+	EXPECT_DOUBLE_EQ(r.estimates[0].error, 0.0);
+	EXPECT_EQ(r.estimates[0].imId, 4);
+	EXPECT_FALSE(r.estimates[1].matched);
+
 	// A wrong estimate scored above the right one takes the instance.
 	Pose wrong = gt;
 	wrong.t.z() += 50;
 	r = evaluatePoses(objects, {{1, 4, 2, gt}}, {row(4, 2, 0.9, wrong), row(4, 2, 0.3, gt)});
 	EXPECT_EQ(r.objects[0].f1[10], 0.0);
 	EXPECT_EQ(r.objects[0].recall, 0.0);
+	ASSERT_EQ(r.estimates.size(), 2u);
+	EXPECT_TRUE(r.estimates[0].matched);
+	EXPECT_NEAR(r.estimates[0].error, 50.0, 1e-9); // ADD of a translation is its length
 }
 
 TEST(Evaluation, EstimatesInOtherImagesAreFalsePositives)
