@@ -337,6 +337,31 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	lim.get("max_mode_seeds", s.limits.maxModeSeeds);
 	lim.get("max_candidates", s.limits.maxCandidates);
 	IHF_SECTION(lim);
+
+	auto inRange = [&](bool ok, const char *key) -> Status {
+		if (ok)
+			return {};
+		return makeError(Errc::kParse, file + ": " + key + ": out of range");
+	};
+	for (Status st : {inRange(e.iterations >= 0, "refinement.iterations"),
+			  inRange(e.psi1 > 0 && e.psi2 >= e.psi1, "refinement.psi1/psi2"),
+			  inRange(e.depthWindows >= 0 && e.depthWindows <= 8, "refinement.depth_windows"),
+			  inRange(e.maxHypotheses >= 1, "votes.max_hypotheses"),
+			  inRange(e.rotationModes >= 1 && e.rotationModes <= 16, "votes.rotation_modes"),
+			  inRange(e.score.outlierWeight >= 0, "score.outlier_weight"),
+			  inRange(e.score.occludedWeight >= 0, "score.occluded_weight"),
+			  inRange(e.icpCandidates >= 0, "icp.candidates"),
+			  inRange(e.search.levels >= 0, "search.levels"),
+			  inRange(e.search.rotationStepDeg > 0, "search.rotation_step_deg"),
+			  inRange(e.search.translationStepMm >= 0, "search.translation_step_mm"),
+			  inRange(e.search.maxPasses >= 1, "search.max_passes"),
+			  inRange(e.bank.viewpoints >= 0, "search.bank_viewpoints"),
+			  inRange(e.bank.inplane >= 1, "search.bank_inplane"),
+			  inRange(e.bank.centres >= 1 && e.bank.centres <= 4, "search.bank_centres"),
+			  inRange(e.bank.keep >= 1 && e.bank.keep <= 8, "search.bank_keep"),
+			  inRange(e.frameBudgetMs >= 0, "budget.frame_ms")})
+		if (!st)
+			return st.error();
 	return s;
 }
 

@@ -3,6 +3,8 @@
 // folder, and errors that name the file and the key.
 
 #include <fstream>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -131,6 +133,26 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.icpCandidates, b.icpCandidates);
 	EXPECT_EQ(a.targetParts, b.targetParts);
 	EXPECT_EQ(a.frameBudgetMs, b.frameBudgetMs);
+	EXPECT_EQ(a.search.levels, b.search.levels);
+	EXPECT_EQ(a.bank.viewpoints, b.bank.viewpoints);
+	EXPECT_EQ(a.score.outlierWeight, b.score.outlierWeight);
+	EXPECT_EQ(a.score.occludedWeight, b.score.occludedWeight);
+}
+
+TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
+{
+	const fs::path dir = test::freshTempDir("estimate_config_range");
+	for (const auto &[text, key] : std::vector<std::pair<std::string, std::string>>{
+		     {"[search]\nbank_keep = 20\n", "search.bank_keep"},
+		     {"[search]\nlevels = -1\n", "search.levels"},
+		     {"[votes]\nrotation_modes = 0\n", "votes.rotation_modes"},
+		     {"[refinement]\npsi1 = 1.1\npsi2 = 1.0\n", "refinement.psi1/psi2"}}) {
+		std::ofstream(dir / "e.toml") << text;
+		auto s = loadEstimateConfig(dir / "e.toml");
+		ASSERT_FALSE(s.ok()) << text;
+		EXPECT_NE(s.error().message.find(key), std::string::npos) << s.error().message;
+		EXPECT_NE(s.error().message.find("e.toml"), std::string::npos) << s.error().message;
+	}
 }
 
 } // namespace
