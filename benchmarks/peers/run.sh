@@ -64,6 +64,7 @@ ihfRun ihf_variable_k5_icp "$trainVar" "${forests[@]}" --iterations 5
 if [ ${#fixed[@]} -gt 0 ]; then
 	ihfRun ihf_fixed_k0 "$trainFix" "${fixed[@]}" --iterations 0 --no-icp
 	ihfRun ihf_fixed_k5 "$trainFix" "${fixed[@]}" --iterations 5 --no-icp
+	ihfRun ihf_fixed_k5_icp "$trainFix" "${fixed[@]}" --iterations 5 # config/train.toml's kind since session 3
 fi
 for p in ${peers//,/ }; do
 	echo "run.sh: $p" >&2
