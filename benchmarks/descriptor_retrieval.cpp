@@ -38,7 +38,7 @@ float angleDeg(const Eigen::Quaternionf &a, const Eigen::Quaternionf &b)
 int usage()
 {
 	std::fprintf(stderr, "usage: descriptor_retrieval MESH.ply [--side S] [--n N] [--nr R] [--ntheta T] "
-			     "[--nphi P] [--weighting count|abs_weight|sign_split] [--forest F.ihf]\n");
+			     "[--nphi P] [--rmin F] [--weighting count|abs_weight|sign_split] [--forest F.ihf]\n");
 	return 2;
 }
 
@@ -62,6 +62,8 @@ int main(int argc, char **argv)
 			p.hocp.nTheta = std::atoi(v);
 		else if (!std::strcmp(k, "--nphi"))
 			p.hocp.nPhi = std::atoi(v);
+		else if (!std::strcmp(k, "--rmin"))
+			p.hocp.rMinFraction = std::strtof(v, nullptr);
 		else if (!std::strcmp(k, "--weighting"))
 			p.hocp.weighting = !std::strcmp(v, "abs_weight") ? HocpWeighting::kAbsWeight
 					   : !std::strcmp(v, "sign_split") ? HocpWeighting::kSignSplit
