@@ -160,6 +160,14 @@ Expected<toml::table> openConfig(const std::filesystem::path &path,
 			return (reader).error(); \
 	} while (0)
 
+// "FILE: KEY: out of range" unless ok.
+Status rangeCheck(bool ok, const std::string &file, const char *key)
+{
+	if (ok)
+		return {};
+	return makeError(Errc::kParse, file + ": " + key + ": out of range");
+}
+
 } // namespace
 
 Expected<TrainSettings> loadTrainConfig(const std::filesystem::path &path)
@@ -338,11 +346,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	lim.get("max_candidates", s.limits.maxCandidates);
 	IHF_SECTION(lim);
 
-	auto inRange = [&](bool ok, const char *key) -> Status {
-		if (ok)
-			return {};
-		return makeError(Errc::kParse, file + ": " + key + ": out of range");
-	};
+	const auto inRange = [&](bool ok, const char *key) { return rangeCheck(ok, file, key); };
 	for (Status st : {inRange(e.iterations >= 0, "refinement.iterations"),
 			  inRange(e.psi1 > 0 && e.psi2 >= e.psi1, "refinement.psi1/psi2"),
 			  inRange(e.depthWindows >= 0 && e.depthWindows <= 8, "refinement.depth_windows"),
@@ -456,11 +460,7 @@ Expected<RunSettings> loadRunConfig(const std::filesystem::path &path)
 	run.get("max_frames", s.maxFrames);
 	IHF_SECTION(run);
 
-	auto positive = [&](bool ok, const char *key) -> Status {
-		if (ok)
-			return {};
-		return makeError(Errc::kParse, file + ": " + key + ": out of range");
-	};
+	const auto positive = [&](bool ok, const char *key) { return rangeCheck(ok, file, key); };
 	for (Status st : {positive(s.speed > 0, "source.speed"), positive(s.timeoutMs > 0, "source.timeout_ms"),
 			  positive(s.maxRetries >= 0, "source.max_retries"),
 			  positive(s.retryBackoffMs >= 0, "source.retry_backoff_ms"),

@@ -138,17 +138,20 @@ bool PoseEstimator::refinementFits(const EstimatorConfig &config)
 	// Keep room for the polish after the last iteration.
 	if (config.icp)
 		predicted += costs_.average(Stage::kIcp);
-	if (budget_.fits(timer_.now(), predicted))
-		return true;
-	++budgetStops_;
-	return false;
+	return fitsBudget(predicted, budgetStops_);
 }
 
 bool PoseEstimator::icpFits()
 {
-	if (budget_.fits(timer_.now(), costs_.average(Stage::kIcp)))
+	return fitsBudget(costs_.average(Stage::kIcp), icpSkipped_);
+}
+
+// Whether predictedNs more still fits the frame and box; counts a refusal.
+bool PoseEstimator::fitsBudget(int64_t predictedNs, uint64_t &refusals)
+{
+	if (budget_.fits(timer_.now(), predictedNs))
 		return true;
-	++icpSkipped_;
+	++refusals;
 	return false;
 }
 
@@ -236,10 +239,8 @@ void PoseEstimator::searchRotationBank(const CameraIntrinsics &K, const ObjectMo
 	const int keepN = std::clamp(config.bank.keep, 1, kMaxKeep);
 	const float same = static_cast<float>(0.05 * diameter);
 	for (int c = 0; c < nc; ++c) {
-		if (!budget_.fits(timer_.now(), costs_.average(Stage::kBank))) {
-			++budgetStops_;
+		if (!fitsBudget(costs_.average(Stage::kBank), budgetStops_))
 			return;
-		}
 		const int64_t start = timer_.last();
 		Hypothesis top[kMaxKeep];
 		int nt = 0;

@@ -237,6 +237,7 @@ private:
 	void releaseBox();
 	bool refinementFits(const EstimatorConfig &config);
 	bool icpFits();
+	bool fitsBudget(int64_t predictedNs, uint64_t &refusals);
 
 	EstimatorLimits limits_;
 	Arena arena_;
