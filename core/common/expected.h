@@ -6,7 +6,10 @@
 // path only uses the code and a static reason so it never allocates.
 
 #include <cassert>
+#include <cstddef>
+#include <ostream>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <variant>
 
@@ -27,12 +30,56 @@ enum class Errc {
 
 const char *errcName(Errc code);
 
-struct Error {
-	Errc code = Errc::kInvalidArgument;
-	std::string message;
+// An error's message: a string literal held by pointer, so that the frame
+// path can fail without allocating, or an owned string for the offline
+// paths that name files, frames and fields. Reads like a const std::string.
+class ErrorText
+{
+public:
+	ErrorText() = default;
+	// String literals only: a literal lives for the whole program.
+	template<std::size_t N>
+	ErrorText(const char (&literal)[N]) : literal_(literal) {}
+	// A writable buffer (snprintf) would dangle: copy it into a std::string.
+	template<std::size_t N>
+	ErrorText(char (&buffer)[N]) = delete;
+	ErrorText(std::string text) : literal_(nullptr), owned_(std::move(text)) {}
+
+	const char *c_str() const { return literal_ ? literal_ : owned_.c_str(); }
+	std::string_view view() const { return literal_ ? std::string_view(literal_) : std::string_view(owned_); }
+	operator std::string_view() const { return view(); }
+	operator std::string() const { return std::string(view()); }
+	bool empty() const { return view().empty(); }
+	std::size_t size() const { return view().size(); }
+	std::size_t find(std::string_view s, std::size_t pos = 0) const { return view().find(s, pos); }
+	// True when the text is a literal held by pointer (no allocation).
+	bool isLiteral() const { return literal_ != nullptr; }
+
+	ErrorText &operator+=(std::string_view s)
+	{
+		owned_ = std::string(view()) + std::string(s);
+		literal_ = nullptr;
+		return *this;
+	}
+
+private:
+	const char *literal_ = "";
+	std::string owned_;
 };
 
-inline Error makeError(Errc code, std::string message)
+inline std::string operator+(const std::string &a, const ErrorText &b) { return a + std::string(b.view()); }
+inline std::string operator+(const char *a, const ErrorText &b) { return std::string(a) + std::string(b.view()); }
+inline std::string operator+(const ErrorText &a, const std::string &b) { return std::string(a.view()) + b; }
+inline std::string operator+(const ErrorText &a, const char *b) { return std::string(a.view()) + b; }
+inline bool operator==(const ErrorText &a, std::string_view b) { return a.view() == b; }
+inline std::ostream &operator<<(std::ostream &os, const ErrorText &t) { return os << t.view(); }
+
+struct Error {
+	Errc code = Errc::kInvalidArgument;
+	ErrorText message;
+};
+
+inline Error makeError(Errc code, ErrorText message)
 {
 	return Error{code, std::move(message)};
 }

@@ -445,9 +445,10 @@ Expected<HypothesisScore> PoseEstimator::scorePose(ImageView<const float> depth,
 	ArenaScope scratch(arena_);
 	VirtualCrop crop;
 	const CropStatus status = makeVirtualCrop(depth, K, box, observed_, crop);
+	if (status == CropStatus::kOutsideImage)
+		return makeError(Errc::kInvalidArgument, "box outside the image");
 	if (status != CropStatus::kOk)
-		return makeError(Errc::kInvalidArgument,
-				 status == CropStatus::kOutsideImage ? "box outside the image" : "empty box");
+		return makeError(Errc::kInvalidArgument, "empty box");
 	const CameraIntrinsics &vk = crop.intrinsics;
 	if (!carveBox(arena_, static_cast<size_t>(vk.width) * vk.height))
 		return makeError(Errc::kCapacity, "arena too small for the box");

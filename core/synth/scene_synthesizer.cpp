@@ -106,7 +106,7 @@ Expected<SynthImage> SceneSynthesizer::attempt(int objId, int imageId, int index
 		char msg[96];
 		std::snprintf(msg, sizeof(msg), "occlusion %.3f, goal %.3f in [%.3f, %.3f]", occlusion,
 			      goal.goal, params_.occlusionMin, params_.occlusionMax);
-		return makeError(Errc::kOutOfRange, msg);
+		return makeError(Errc::kOutOfRange, std::string(msg));
 	}
 
 	SynthImage img;

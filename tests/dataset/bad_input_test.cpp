@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 template<typename T>
 std::string errorOf(const Expected<T> &r)
 {
-	return r ? std::string("(no error)") : r.error().message;
+	return r ? std::string("(no error)") : std::string(r.error().message);
 }
 
 bool contains(const std::string &s, const std::string &part)

@@ -11,6 +11,7 @@
 // allocation aborts the test. Self-checks prove both tripwires fire.
 
 #include <cmath>
+#include <type_traits>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,8 @@
 
 #include "core/dataset/bop_dataset.h"
 #include "core/estimation/pose_estimator.h"
+#include "core/features/part_extractor.h"
+#include "core/features/unit_cube_frame.h"
 #include "tests/runtime/alloc_interpose.h"
 #include "tests/runtime/small_model.h"
 
@@ -129,6 +132,39 @@ TEST(TripwireSelfCheck, EigenHeapAllocationAbortsWhenForbidden)
 			std::printf("%f\n", m.sum());
 		},
 		"heap allocation is forbidden");
+}
+
+// A writable buffer must not be held by pointer (it would dangle); literals are.
+static_assert(!std::is_constructible_v<ErrorText, char (&)[8]>);
+static_assert(std::is_constructible_v<ErrorText, const char (&)[8]>);
+
+TEST(ZeroAllocation, FramePathErrorsDoNotAllocate)
+{
+	// Messages longer than std::string's in-place buffer: before ErrorText
+	// each of these failures allocated.
+	Status s1 = Status();
+	Expected<UnitCubeFrame> f1 = makeError(Errc::kInvalidArgument, "x");
+	PartExtractor extractor;
+	Expected<Part> p1 = makeError(Errc::kInvalidArgument, "x");
+	std::vector<PartCp> out(8);
+	const uint64_t n = allocationsOf([&] {
+		f1 = makeUnitCubeFrame(std::span<const CloudPoint>{}, 1.0f);
+		p1 = extractor.extract(0, PartConfig{}, HocpConfig{}, out);
+		s1 = makeError(Errc::kCapacity, "a literal reason well past the in-place buffer");
+	});
+	EXPECT_EQ(n, 0u);
+	ASSERT_FALSE(f1.ok());
+	EXPECT_EQ(f1.error().message, "makeUnitCubeFrame: empty cloud");
+	EXPECT_TRUE(f1.error().message.isLiteral());
+	ASSERT_FALSE(p1.ok());
+	EXPECT_NE(p1.error().message.find("before prepare"), std::string::npos);
+	ASSERT_FALSE(s1.ok());
+
+	// Offline errors keep owned, composed messages.
+	const Error owned = makeError(Errc::kIo, std::string("file ") + "x.ihf" + ": truncated");
+	EXPECT_FALSE(owned.message.isLiteral());
+	EXPECT_EQ(owned.message, "file x.ihf: truncated");
+	EXPECT_EQ("ihf: " + owned.message, "ihf: file x.ihf: truncated");
 }
 
 TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
