@@ -33,10 +33,14 @@ sudo=""
 # Host side: cross compiler and emulator.
 host_pkgs=("g++-$triple" qemu-user-static cmake ninja-build)
 missing=()
+# Captured first: with pipefail, grep -q exiting early can make the
+# writer's SIGPIPE count as a failure.
 for p in "${host_pkgs[@]}"; do
-	dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+	st="$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)"
+	[ "$st" = "install ok installed" ] || missing+=("$p")
 done
-if ! dpkg --print-foreign-architectures | grep -qx "$debarch"; then
+foreign="$(dpkg --print-foreign-architectures)"
+if ! grep -qx "$debarch" <<<"$foreign"; then
 	echo "cross-test: adding dpkg architecture $debarch" >&2
 	$sudo dpkg --add-architecture "$debarch"
 	need_update=1
