@@ -19,8 +19,29 @@ static uint64_t bits(T v)
 	return b;
 }
 
-int main()
+// --expf-sweep: expf of every 7th float in [-8, 0) (the mean-shift kernel's
+// range), one hash.
+static int expfSweep()
 {
+	uint64_t h = 0, n = 0;
+	const float lo = -8.0f;
+	uint32_t last;
+	std::memcpy(&last, &lo, 4);
+	for (uint32_t b = 0x80000001u; b <= last; b += 7) {
+		float x;
+		std::memcpy(&x, &b, 4);
+		h = h * 1000003ull ^ bits(std::exp(x));
+		++n;
+	}
+	std::printf("expf sweep %llu values %016llx\n", static_cast<unsigned long long>(n),
+		    static_cast<unsigned long long>(h));
+	return 0;
+}
+
+int main(int argc, char **argv)
+{
+	if (argc > 1 && std::strcmp(argv[1], "--expf-sweep") == 0)
+		return expfSweep();
 	std::mt19937_64 rng(1);
 	std::uniform_real_distribution<double> u(-4, 4), p(1e-6, 1000);
 	const char *name[] = {"acos",          "acosf",           "atan2f",        "cosf",

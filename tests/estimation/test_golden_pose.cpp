@@ -148,6 +148,32 @@ bool parseBox(const std::string &line, GoldenBox &g)
 	return !s.fail();
 }
 
+// IHF_GOLDEN_TRACE=FILE: every vote pass and scored hypothesis, in text
+// that is bit-exact (%a), to diff two targets and find the first stage
+// where they part.
+class TraceObserver final : public EstimateObserver
+{
+public:
+	explicit TraceObserver(std::FILE *f) : f_(f) {}
+	void onVotes(const VoteEvent &e) override
+	{
+		std::fprintf(f_, "votes it %d pass %d n %zu\n", e.iteration, e.pass, e.votes.size());
+		for (const CastVote &v : e.votes)
+			std::fprintf(f_, " %a %a %a %a %a %a %a %a\n", v.centre.x(), v.centre.y(),
+				     v.centre.z(), v.rotation.w(), v.rotation.x(), v.rotation.y(),
+				     v.rotation.z(), v.weight);
+	}
+	void onHypothesis(const HypothesisEvent &e) override
+	{
+		std::fprintf(f_, "hyp it %d %s rank %d t %a %a %a R00 %a score %a\n", e.iteration,
+			     e.stage, e.rank, e.pose.t.x(), e.pose.t.y(), e.pose.t.z(), e.pose.R(0, 0),
+			     static_cast<double>(e.score.score));
+	}
+
+private:
+	std::FILE *f_;
+};
+
 DepthImageMm toMm(const DepthImage16 &raw)
 {
 	DepthImageMm mm(raw.width(), raw.height(), 0.0f);
@@ -209,6 +235,12 @@ TEST(GoldenPose, Amd64ForestAndFrameGiveTheAmd64Poses)
 	}
 	PoseEstimator estimator;
 	ASSERT_TRUE(estimator.valid());
+	std::FILE *trace = nullptr;
+	if (const char *t = std::getenv("IHF_GOLDEN_TRACE"))
+		trace = std::fopen(t, "w");
+	TraceObserver observer(trace);
+	if (trace)
+		estimator.setObserver(&observer);
 	std::vector<GoldenBox> got;
 	for (size_t i = 0; i < boxes; ++i) {
 		const PoseEstimate e = estimator.estimate(depth.view(), kK, golden[i].box, **model, config);
@@ -223,6 +255,8 @@ TEST(GoldenPose, Amd64ForestAndFrameGiveTheAmd64Poses)
 		}
 	}
 
+	if (trace)
+		std::fclose(trace);
 	if (write) {
 		std::ofstream out(posesFile());
 		out << "# box x y w h, found, R (row-major), t (mm), score, votes, parts, best iteration\n"
