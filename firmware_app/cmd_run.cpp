@@ -21,6 +21,7 @@
 #include "firmware_app/pose_output.h"
 #include "firmware_app/pose_stage.h"
 #include "firmware_app/run_loop.h"
+#include "firmware_app/service_notify.h"
 #include "firmware_app/shutdown_signal.h"
 #include "firmware_app/usb_presence.h"
 #include "firmware_app/vis_writer.h"
@@ -187,7 +188,10 @@ int runRun(const RunOptions &o)
 			loop.setPresence(presence.get());
 		}
 	}
+	ServiceNotifier notifier;
+	loop.setHeartbeat(&notifier);
 	const RunEnd end = loop.run();
+	notifier.stopping();
 
 	Status finished = (*output)->finish();
 	const BoxFeedCounters &fc = (*feed)->counters();

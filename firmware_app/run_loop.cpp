@@ -57,6 +57,7 @@ bool RunLoop::backoffWait(int attempt)
 	// In slices, so a signal ends the wait soon.
 	const int64_t slice = std::chrono::nanoseconds(std::chrono::milliseconds(50)).count();
 	for (int64_t now = clock_.nowNs(); now < deadline; now = clock_.nowNs()) {
+		beat();
 		if (stopRequested())
 			return false;
 		clock_.sleepUntil(std::min(deadline, now + slice));
@@ -84,6 +85,7 @@ bool RunLoop::waitForSensor()
 	std::fflush(log_);
 	const int64_t slice = std::chrono::nanoseconds(std::chrono::milliseconds(100)).count();
 	while (!presence_->present()) {
+		beat();
 		if (stopRequested())
 			return false;
 		clock_.sleepUntil(clock_.nowNs() + slice);
@@ -199,6 +201,7 @@ RunEnd RunLoop::run()
 	Frame frame;
 	RunEnd end = RunEnd::kEndOfStream;
 	for (;;) {
+		beat();
 		if (stopRequested()) {
 			end = RunEnd::kShutdown;
 			break;

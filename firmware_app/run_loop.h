@@ -65,6 +65,15 @@ public:
 	virtual bool present() const = 0;
 };
 
+// Told on every loop iteration, also while waiting to reopen or for an
+// unplugged sensor (the systemd watchdog, service_notify.h).
+class LoopHeartbeat
+{
+public:
+	virtual ~LoopHeartbeat() = default;
+	virtual void beat() = 0;
+};
+
 struct RunCounters {
 	uint64_t delivered = 0; // frames the source gave
 	uint64_t processed = 0;
@@ -100,6 +109,8 @@ public:
 		presenceInterval_ = checkInterval;
 	}
 
+	void setHeartbeat(LoopHeartbeat *heartbeat) { heartbeat_ = heartbeat; }
+
 	RunEnd run();
 	const RunCounters &counters() const { return counters_; }
 	// The error that ended the run (kSourceFailed, kProcessFailed).
@@ -115,6 +126,11 @@ private:
 	void closeSource();
 	bool stopRequested();
 	void maybeStats(bool force);
+	void beat()
+	{
+		if (heartbeat_)
+			heartbeat_->beat();
+	}
 
 	FrameSource &source_;
 	FrameProcessor &processor_;
@@ -135,6 +151,7 @@ private:
 	std::chrono::nanoseconds presenceInterval_{0};
 	int64_t lastPresenceNs_ = 0;
 	bool presenceChecked_ = false;
+	LoopHeartbeat *heartbeat_ = nullptr;
 };
 
 } // namespace ihf::app

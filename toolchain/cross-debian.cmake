@@ -3,7 +3,7 @@
 # IHF_CROSS_TRIPLE (GNU triple = Debian multiarch directory) and
 # IHF_CROSS_PROCESSOR, IHF_CROSS_QEMU before including this file.
 #
-# Compiled libraries (libpng, zlib, tomlplusplus, qhull, gtest) come either
+# Compiled libraries (libpng, zlib, tomlplusplus, qhull, gtest, libusb) come either
 # from multiarch -dev packages installed with dpkg (libpng-dev:arm64 ...) in
 # /usr/lib/<triple>, or, with -DIHF_CROSS_SYSROOT=DIR, from those packages
 # unpacked into DIR (toolchain/cross-test.sh does that: it keeps working when
@@ -31,6 +31,10 @@ set(CMAKE_IGNORE_PATH /usr/lib/x86_64-linux-gnu /usr/lib/x86_64-linux-gnu/cmake)
 set(ENV{PKG_CONFIG_LIBDIR}
     "${IHF_CROSS_SYSROOT}/usr/lib/${IHF_CROSS_TRIPLE}/pkgconfig:/usr/lib/${IHF_CROSS_TRIPLE}/pkgconfig:/usr/share/pkgconfig")
 set(ENV{PKG_CONFIG_PATH} "")
+# The unpacked .pc files say prefix=/usr: prefix their paths with the sysroot.
+if(IHF_CROSS_SYSROOT)
+  set(ENV{PKG_CONFIG_SYSROOT_DIR} "${IHF_CROSS_SYSROOT}")
+endif()
 
 # binfmt_misc is not mounted on the build machine: run target programs
 # (gtest discovery, ctest, tests that call the ihf CLI) through qemu-user.

@@ -5,12 +5,13 @@
 #
 # Installs what is missing: the cross compiler and qemu-user-static (host
 # packages), then the target's compiled -dev packages (libpng, zlib,
-# tomlplusplus, qhull, gtest/gmock), downloaded with apt for the target
+# tomlplusplus, qhull, gtest/gmock, libusb, libsystemd), downloaded with apt for the target
 # architecture and unpacked into build-ARCH/sysroot (not dpkg-installed:
 # Debian mirrors are often mid-sync, and Multi-Arch: same packages must then
 # have identical amd64 and arm versions, which dpkg would refuse).
 # Optional dependencies without an unpacked target package are switched off:
-# OpenNI2, cairo (PR plots), Google Benchmark.
+# OpenNI2, cairo (PR plots), Google Benchmark, libcamera (found by
+# pkg-config only if its .pc is in the sysroot).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(dirname "$here")"
@@ -32,10 +33,14 @@ sudo=""
 # Host side: cross compiler and emulator.
 host_pkgs=("g++-$triple" qemu-user-static cmake ninja-build)
 missing=()
+# Captured first: with pipefail, grep -q exiting early can make the
+# writer's SIGPIPE count as a failure.
 for p in "${host_pkgs[@]}"; do
-	dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+	st="$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)"
+	[ "$st" = "install ok installed" ] || missing+=("$p")
 done
-if ! dpkg --print-foreign-architectures | grep -qx "$debarch"; then
+foreign="$(dpkg --print-foreign-architectures)"
+if ! grep -qx "$debarch" <<<"$foreign"; then
 	echo "cross-test: adding dpkg architecture $debarch" >&2
 	$sudo dpkg --add-architecture "$debarch"
 	need_update=1
@@ -51,7 +56,9 @@ fi
 # Target side: compiled libraries, unpacked. Run-time libraries come along
 # for the tests; libc and libstdc++ are the cross toolchain's.
 target_pkgs=(libpng-dev libpng16-16 zlib1g-dev zlib1g libtomlplusplus-dev libtomlplusplus3
-	libqhull-dev libqhull8.0 libqhull-r8.0 libqhullcpp8.0 libgtest-dev libgmock-dev)
+	libqhull-dev libqhull8.0 libqhull-r8.0 libqhullcpp8.0 libgtest-dev libgmock-dev
+	libusb-1.0-0-dev libusb-1.0-0 libudev1
+	libsystemd-dev libsystemd0 libcap2 libgcrypt20 libgpg-error0 liblz4-1 liblzma5 libzstd1)
 stamp="$sysroot/.packages"
 if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "${target_pkgs[*]}" ]; then
 	echo "cross-test: unpacking ${target_pkgs[*]} ($debarch) into $sysroot" >&2
@@ -83,8 +90,14 @@ mapfile -t unit_targets < <(awk '/ihf_add_test\(/ { blk = ""; inb = 1 }
 			print substr(blk, RSTART + 5, RLENGTH - 5)
 		inb = 0
 	}' "$root"/tests/*/CMakeLists.txt)
-echo "cross-test: building ihf ihf_drivers ${unit_targets[*]}" >&2
-cmake --build "$build" -j "${IHF_JOBS:-2}" --target ihf ihf_drivers "${unit_targets[@]}"
+# Keep those this configuration defines (some depend on optional libraries).
+mapfile -t defined < <(ninja -C "$build" -t targets all | sed -n 's/^\([A-Za-z0-9_]*\): phony$/\1/p')
+unit_targets=($(printf '%s\n' "${unit_targets[@]}" | grep -Fxf <(printf '%s\n' "${defined[@]}")))
+targets=(ihf ihf_drivers "${unit_targets[@]}")
+# IHF_CROSS_TARGETS="a b": only those (then run ctest with a matching -R).
+[ -z "${IHF_CROSS_TARGETS:-}" ] || read -r -a targets <<<"$IHF_CROSS_TARGETS"
+echo "cross-test: building ${targets[*]}" >&2
+cmake --build "$build" -j "${IHF_JOBS:-2}" --target "${targets[@]}"
 
 # Timing-sensitive tests (label "timing") are skipped under emulation.
 cd "$build"

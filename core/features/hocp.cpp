@@ -24,7 +24,10 @@ int angularBin(const Eigen::Vector3f &rel, float r, const HocpConfig &cfg)
 {
 	const float cosTheta = r > kTinyRadius ? rel.z() / r : 1.0f;
 	const int it = clampBin(0.5f * (cosTheta + 1.0f) * static_cast<float>(cfg.nTheta), cfg.nTheta);
-	const float phi = std::atan2(rel.y(), rel.x());
+	// atan2 in double: glibc's atan2f rounds differently on aarch64 than on
+	// amd64 (its double atan2 agrees), which would move points across bins.
+	const float phi = static_cast<float>(
+		std::atan2(static_cast<double>(rel.y()), static_cast<double>(rel.x())));
 	const int ip = clampBin((phi + std::numbers::pi_v<float>) * (0.5f / std::numbers::pi_v<float>) *
 					static_cast<float>(cfg.nPhi),
 				cfg.nPhi);

@@ -22,7 +22,8 @@ inline float quatSimilarity(const Eigen::Quaternionf &a, const Eigen::Quaternion
 inline float quatAngle(const Eigen::Quaternionf &a, const Eigen::Quaternionf &b)
 {
 	float c = quatSimilarity(a, b);
-	return 2.0f * std::acos(c > 1.0f ? 1.0f : c);
+	// acos in double: glibc's acosf differs between amd64 and aarch64.
+	return 2.0f * static_cast<float>(std::acos(static_cast<double>(c > 1.0f ? 1.0f : c)));
 }
 
 // Rotation taking the optical axis (0,0,1) onto the unit ray `dir`, with no

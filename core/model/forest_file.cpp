@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <optional>
 #include <system_error>
@@ -134,7 +135,14 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const fs::path &path)
 			       " bytes, smaller than the " + std::to_string(kHeaderSize) +
 			       "-byte header");
 
-	void *addr = ::mmap(nullptr, actualSize, PROT_READ, MAP_PRIVATE, fd.get(), 0);
+	// 32-bit targets: size_t would truncate the length of the mapping.
+	if constexpr (sizeof(size_t) < sizeof(uint64_t))
+		if (actualSize > std::numeric_limits<size_t>::max())
+			return makeError(Errc::kUnsupported,
+					 name + ": too large to map on this 32-bit target");
+
+	void *addr = ::mmap(nullptr, static_cast<size_t>(actualSize), PROT_READ, MAP_PRIVATE,
+			    fd.get(), 0);
 	if (addr == MAP_FAILED)
 		return makeError(Errc::kIo, name + ": cannot map: " + errnoText(errno));
 

@@ -453,5 +453,39 @@ TEST_F(RunReplay, UsageErrors)
 	EXPECT_NE(r.output.find("--vis"), std::string::npos);
 }
 
+#ifdef IHF_TEST_SYSTEMD
+// As a systemd Type=notify service with a watchdog: READY=1 with the first
+// loop iteration, WATCHDOG=1 on every other one, STOPPING=1 at the end, as
+// datagrams to the socket NOTIFY_SOCKET names (bound here, as systemd would).
+TEST_F(RunReplay, NotifiesSystemdReadyWatchdogAndStopping)
+{
+	const fs::path &d = *dir_;
+	const fs::path sockPath = d / "notify.sock";
+	::unlink(sockPath.c_str());
+	const int s = ::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+	ASSERT_GE(s, 0);
+	sockaddr_un a{};
+	a.sun_family = AF_UNIX;
+	std::snprintf(a.sun_path, sizeof(a.sun_path), "%s", sockPath.c_str());
+	ASSERT_EQ(::bind(s, reinterpret_cast<sockaddr *>(&a), sizeof(a)), 0) << std::strerror(errno);
+
+	::setenv("NOTIFY_SOCKET", sockPath.c_str(), 1);
+	CommandResult r = runIhf("run --config " + q(d / "device.toml") + " --out file:" + q(d / "notify.jsonl"));
+	::unsetenv("NOTIFY_SOCKET");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("frames 3 processed 3"), std::string::npos) << r.output;
+
+	std::vector<std::string> got;
+	char buf[512];
+	for (ssize_t n; (n = ::recv(s, buf, sizeof(buf), MSG_DONTWAIT)) >= 0;)
+		got.emplace_back(buf, static_cast<size_t>(n));
+	::close(s);
+	::unlink(sockPath.c_str());
+	// 3 frames and the end of the stream: 4 iterations.
+	EXPECT_EQ(got, (std::vector<std::string>{"READY=1\nWATCHDOG=1", "WATCHDOG=1", "WATCHDOG=1",
+						 "WATCHDOG=1", "STOPPING=1"}));
+}
+#endif
+
 } // namespace
 } // namespace ihf::test

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <string>
 
+#include <unistd.h>
+
 namespace ihf::test {
 
 inline std::filesystem::path sharedDir() { return IHF_SHARED_DIR; }
@@ -14,10 +16,14 @@ inline std::filesystem::path lmoDir() { return sharedDir() / "data" / "lmo"; }
 inline std::filesystem::path sourceDir() { return IHF_SOURCE_DIR; }
 inline std::filesystem::path ihfBinary() { return IHF_BINARY; }
 
-// A fresh, empty folder under the system temp dir for one test.
+// A fresh, empty folder under the system temp dir for one test. The
+// process id keeps parallel processes apart (ctest -j runs the cases of one
+// suite as separate processes, and other checkouts on the machine use the
+// same names); without it one process's SetUp deletes another's files.
 inline std::filesystem::path freshTempDir(const std::string &name)
 {
-	auto dir = std::filesystem::temp_directory_path() / ("ihf_test_" + name);
+	auto dir = std::filesystem::temp_directory_path() /
+		   ("ihf_test_" + name + "_" + std::to_string(::getpid()));
 	std::filesystem::remove_all(dir);
 	std::filesystem::create_directories(dir);
 	return dir;
