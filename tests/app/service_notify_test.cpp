@@ -22,6 +22,7 @@
 #include "drivers/recording_writer.h"
 #include "firmware_app/run_loop.h"
 #include "firmware_app/service_notify.h"
+#include "tests/app/small_recording.h"
 #include "tests/common/test_paths.h"
 
 namespace ihf::app {
@@ -67,17 +68,7 @@ private:
 
 void writeFrames(const fs::path &file, int n)
 {
-	recording::RecordingHeader h;
-	h.sensorId = "heartbeat test";
-	h.intrinsics = CameraIntrinsics{500, 500, 7.5, 5.5, 16, 12};
-	auto w = RecordingWriter::create(file, h);
-	ASSERT_TRUE(w.ok()) << w.error().message;
-	Image<uint16_t> depth(16, 12, 1000);
-	for (int i = 0; i < n; ++i) {
-		const int64_t t = static_cast<int64_t>(i) * 1'000'000'000 / 30;
-		ASSERT_TRUE(w->append({static_cast<uint64_t>(i), t, t}, depth.view()).ok());
-	}
-	ASSERT_TRUE(w->finish().ok());
+	test::writeSmallRecording(file, n, "heartbeat test");
 }
 
 TEST(LoopHeartbeat, EveryIterationAndThroughTheReopenWaits)
