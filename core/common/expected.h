@@ -49,18 +49,9 @@ public:
 	std::string_view view() const { return literal_ ? std::string_view(literal_) : std::string_view(owned_); }
 	operator std::string_view() const { return view(); }
 	operator std::string() const { return std::string(view()); }
-	bool empty() const { return view().empty(); }
-	std::size_t size() const { return view().size(); }
 	std::size_t find(std::string_view s, std::size_t pos = 0) const { return view().find(s, pos); }
 	// True when the text is a literal held by pointer (no allocation).
 	bool isLiteral() const { return literal_ != nullptr; }
-
-	ErrorText &operator+=(std::string_view s)
-	{
-		owned_ = std::string(view()) + std::string(s);
-		literal_ = nullptr;
-		return *this;
-	}
 
 private:
 	const char *literal_ = "";
