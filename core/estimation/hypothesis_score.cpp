@@ -44,7 +44,7 @@ HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const
 }
 
 float boxAgreement(const Mesh &mesh, const Pose &pose, const CameraIntrinsics &window,
-		   const ScoreConfig &config)
+		   const ScoreConfig &config, OpenSides open)
 {
 	if (config.boxWeight <= 0 || mesh.vertices.empty() || window.width <= 0 || window.height <= 0)
 		return 1.0f;
@@ -69,8 +69,11 @@ float boxAgreement(const Mesh &mesh, const Pose &pose, const CameraIntrinsics &w
 	// A detector's box is itself off by some percent: overhang within
 	// boxMargin of the box size costs nothing.
 	const float mx = config.boxMargin * window.width, my = config.boxMargin * window.height;
-	const float ow = std::max(0.0f, std::min(u1, window.width + mx) - std::max(u0, -mx));
-	const float oh = std::max(0.0f, std::min(v1, window.height + my) - std::max(v0, -my));
+	const float big = std::numeric_limits<float>::max();
+	const float left = open.left ? -big : -mx, right = open.right ? big : window.width + mx;
+	const float top = open.top ? -big : -my, bottom = open.bottom ? big : window.height + my;
+	const float ow = std::max(0.0f, std::min(u1, right) - std::max(u0, left));
+	const float oh = std::max(0.0f, std::min(v1, bottom) - std::max(v0, top));
 	const float inside = std::min(1.0f, ow * oh / area);
 	const float fill = iw * ih / (static_cast<float>(window.width) * window.height);
 	const float fillTerm = std::min(1.0f, fill / std::max(1e-3f, config.boxMinFill));

@@ -33,6 +33,11 @@ PartLimits partLimits(const EstimatorLimits &limits)
 	return pl;
 }
 
+OpenSides openSides(const PixelBox &box, int width, int height)
+{
+	return {box.x <= 0, box.y <= 0, box.x + box.w >= width, box.y + box.h >= height};
+}
+
 size_t count(int n)
 {
 	return static_cast<size_t>(std::max(n, 0));
@@ -403,7 +408,7 @@ HypothesisScore PoseEstimator::score(const Pose &pose, const CameraIntrinsics &K
 	if (!renderer_.render(model.mesh(), pose, K, renderView_))
 		return {};
 	HypothesisScore s = scoreHypothesis(observedView_, renderView_, config.score);
-	s.boxFactor = boxAgreement(model.mesh(), pose, K, config.score);
+	s.boxFactor = boxAgreement(model.mesh(), pose, K, config.score, openSides_);
 	s.score = s.depthScore * s.boxFactor;
 	return s;
 }
@@ -450,6 +455,7 @@ Expected<HypothesisScore> PoseEstimator::scorePose(ImageView<const float> depth,
 	if (status != CropStatus::kOk)
 		return makeError(Errc::kInvalidArgument, "empty box");
 	const CameraIntrinsics &vk = crop.intrinsics;
+	openSides_ = openSides(box, depth.width, depth.height);
 	if (!carveBox(arena_, static_cast<size_t>(vk.width) * vk.height))
 		return makeError(Errc::kCapacity, "arena too small for the box");
 	observedView_ = ImageView<float>(observed_.data(), vk.width, vk.height, vk.width);
@@ -507,6 +513,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		return out;
 	}
 	const CameraIntrinsics &vk = crop->intrinsics;
+	openSides_ = openSides(box, depth.width, depth.height);
 	const int w = vk.width, h = vk.height;
 	peaks_.windowPixels = std::max(peaks_.windowPixels, w * h);
 	if (!carveBox(arena_, static_cast<size_t>(w) * h)) {

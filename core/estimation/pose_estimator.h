@@ -270,6 +270,7 @@ private:
 	std::span<Hypothesis> kept_; // best distinct hypotheses, by score
 	size_t keptCount_ = 0;
 	Eigen::Matrix3d cropRotation_ = Eigen::Matrix3d::Identity();
+	OpenSides openSides_; // of the current box: sides on the frame border
 	EstimateObserver *observer_ = nullptr;
 
 	// Per box (sized to its window, released after it).

@@ -78,6 +78,29 @@ TEST(BoxAgreement, PenalisesPosesTooNearOrTooFarForTheBox)
 	EXPECT_EQ(boxAgreement(cube, p, K, cfg), 1.0f);
 }
 
+TEST(BoxAgreement, OverhangPastAFrameBorderSideIsFree)
+{
+	// A box clipped by the frame's left border (60 x 80 px window): the
+	// cube, 10 px left of the window centre, runs ~13 px past the left side,
+	// more than the 6 px margin, and still covers most of the box.
+	const Mesh cube = unitCube(100.0f);
+	CameraIntrinsics K{500, 500, 29.5, 39.5, 60, 80};
+	ScoreConfig cfg;
+	Pose p;
+	p.t = Eigen::Vector3d(-16, 0, 800);
+	const float closed = boxAgreement(cube, p, K, cfg);
+	EXPECT_LT(closed, 0.95f);
+	OpenSides left;
+	left.left = true;
+	EXPECT_NEAR(boxAgreement(cube, p, K, cfg, left), 1.0f, 1e-6f);
+	OpenSides right;
+	right.right = true; // the wrong side: no help
+	EXPECT_EQ(boxAgreement(cube, p, K, cfg, right), closed);
+	// Open sides do not excuse a pose far too near for the box.
+	p.t = Eigen::Vector3d(0, 0, 300);
+	EXPECT_LT(boxAgreement(cube, p, K, cfg, left), 0.6f);
+}
+
 TEST(HypothesisScore, CountsInliersOutliersAndOcclusion)
 {
 	std::vector<float> obs(4, 0.0f), ren(4, 0.0f);
@@ -86,13 +109,16 @@ TEST(HypothesisScore, CountsInliersOutliersAndOcclusion)
 	r.at(1, 0) = 800; o.at(1, 0) = 900; // observed behind: outlier
 	r.at(2, 0) = 800; o.at(2, 0) = 600; // observed in front: occluded
 	r.at(3, 0) = 810;                   // no observation
-	HypothesisScore s = scoreHypothesis(o, r, ScoreConfig{});
+	ScoreConfig cfg;
+	cfg.outlierWeight = 3.0f;
+	cfg.occludedWeight = 0.25f;
+	HypothesisScore s = scoreHypothesis(o, r, cfg);
 	EXPECT_EQ(s.rendered, 4);
 	EXPECT_EQ(s.compared, 3);
 	EXPECT_EQ(s.inliers, 1);
 	EXPECT_EQ(s.outliers, 1);
 	EXPECT_EQ(s.occluded, 1);
-	EXPECT_FLOAT_EQ(s.depthScore, 1.0f / 2.5f);
+	EXPECT_FLOAT_EQ(s.depthScore, 1.0f / 4.25f);
 	EXPECT_FLOAT_EQ(s.depthMin, 800.0f);
 	EXPECT_FLOAT_EQ(s.depthMax, 810.0f);
 }
