@@ -15,6 +15,16 @@ namespace ihf {
 namespace {
 
 constexpr int kMaxRotationClusters = 128;
+
+// |a - b|^2 summed x, y, z in that order. Eigen's vectorised squaredNorm()
+// of a Vector3f adds the squares in another order on SSE than on NEON, so
+// a mean shift built on it parts by an ulp between amd64 and aarch64 and
+// then converges to other modes (BENCHMARKS.md, Edge targets).
+inline float squaredDistance(const Eigen::Vector3f &a, const Eigen::Vector3f &b)
+{
+	const float dx = a.x() - b.x(), dy = a.y() - b.y(), dz = a.z() - b.z();
+	return (dx * dx + dy * dy) + dz * dz;
+}
 constexpr int kMaxRotationSeeds = 32;
 
 Eigen::Quaternionf principalQuaternion(const Eigen::Matrix4f &m)
@@ -72,7 +82,7 @@ public:
 					if (keyOf(*it) > k1)
 						break;
 					const CastVote &v = votes_[*it];
-					const float d2 = (v.centre - x).squaredNorm();
+					const float d2 = squaredDistance(v.centre, x);
 					if (d2 > cutoff2)
 						continue;
 					const float k = v.weight * std::exp(-d2 * inv2s2);
@@ -166,14 +176,14 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 		// A seed that reaches a mode already found climbs no further.
 		const auto nearFound = [&](const Eigen::Vector3f &p) {
 			for (size_t m = 0; m < found; ++m)
-				if ((modes[m].centre - p).squaredNorm() < merge2)
+				if (squaredDistance(modes[m].centre, p) < merge2)
 					return true;
 			return false;
 		};
 		bool reached = false;
 		for (int it = 0; it < config.maxIterations && !reached; ++it) {
 			mass = grid.meanShiftStep(x, inv2s2, cutoff2, next);
-			bool done = (next - x).squaredNorm() < 1e-4f * h * h;
+			bool done = squaredDistance(next, x) < 1e-4f * h * h;
 			x = next;
 			reached = nearFound(x);
 			if (done)
@@ -184,7 +194,7 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 		mass = grid.meanShiftStep(x, inv2s2, cutoff2, next);
 		bool merged = false;
 		for (size_t m = 0; m < found; ++m) {
-			if ((modes[m].centre - x).squaredNorm() < merge2) {
+			if (squaredDistance(modes[m].centre, x) < merge2) {
 				if (mass > modes[m].translationDensity) {
 					modes[m].centre = x;
 					modes[m].translationDensity = mass;
@@ -226,7 +236,7 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 		float support = 0;
 		size_t ns = 0;
 		for (size_t i = 0; i < votes.size(); ++i) {
-			float d2 = (votes[i].centre - centre.centre).squaredNorm();
+			float d2 = squaredDistance(votes[i].centre, centre.centre);
 			bool in = votes[i].weight > 0 && d2 <= support2;
 			w[i] = in ? votes[i].weight * std::exp(-d2 * inv2s2) : 0.0f;
 			support += in ? votes[i].weight : 0.0f;
