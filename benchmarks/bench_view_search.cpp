@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: MIT
+// View-template rotation search (core/pose/view_search.h): building the
+// templates of the LM-O ape at load (320 directions x 128 points, the
+// default), and one search at a translation (320 x 24 rotations, with and
+// without the box-centred translation) on a render of the ape before a wall.
+//
+// Run: build/bin/bench_view_search [--benchmark_filter=...]
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "core/geometry/camera_intrinsics.h"
+#include "core/geometry/ply_loader.h"
+#include "core/geometry/pose.h"
+#include "core/pose/view_search.h"
+#include "core/render/depth_renderer.h"
+#include "core/training/view_template_builder.h"
+
+#ifndef IHF_SHARED_DIR
+#define IHF_SHARED_DIR "../shared"
+#endif
+
+namespace ihf {
+namespace {
+
+const Mesh &apeMesh()
+{
+	static const Mesh mesh = [] {
+		auto m = loadPly(std::filesystem::path(IHF_SHARED_DIR) / "data/lmo/models/obj_000001.ply");
+		if (!m) {
+			std::fprintf(stderr, "bench_view_search: %s\n", m.error().message.c_str());
+			std::exit(1);
+		}
+		return std::move(m).value();
+	}();
+	return mesh;
+}
+
+void BM_BuildViewTemplates(benchmark::State &state)
+{
+	const Mesh &mesh = apeMesh();
+	const double diameter = meshDiameter(mesh);
+	const ViewTemplateConfig cfg{static_cast<int>(state.range(0)), 128};
+	for (auto _ : state) {
+		auto pts = buildViewTemplatePoints(mesh, diameter, cfg);
+		if (!pts) {
+			state.SkipWithError(pts.error().message.c_str());
+			return;
+		}
+		benchmark::DoNotOptimize(pts->data());
+	}
+	state.counters["bytes"] = static_cast<double>(cfg.viewpoints) * cfg.pointsPerView * sizeof(Eigen::Vector3f);
+}
+BENCHMARK(BM_BuildViewTemplates)->Arg(320)->Arg(160)->Unit(benchmark::kMillisecond);
+
+void BM_SearchViews(benchmark::State &state)
+{
+	const Mesh &mesh = apeMesh();
+	const double diameter = meshDiameter(mesh);
+	auto pts = buildViewTemplatePoints(mesh, diameter, {320, 128});
+	if (!pts) {
+		state.SkipWithError(pts.error().message.c_str());
+		return;
+	}
+	const ViewTemplates templates{320, 128, *pts};
+	const CameraIntrinsics K = kinectV1Intrinsics();
+	Pose truth;
+	truth.R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, 1, 0.2).normalized()).toRotationMatrix();
+	truth.t = {0, 0, 900};
+	std::vector<float> depth(static_cast<size_t>(K.width) * K.height, 0.0f);
+	DepthRenderer renderer(mesh.vertices.size());
+	if (!renderer.render(mesh, truth, K, ImageView<float>(depth.data(), K.width, K.height, K.width))) {
+		state.SkipWithError("render failed");
+		return;
+	}
+	for (float &d : depth)
+		if (!(d > 0))
+			d = 1150.0f;
+	ViewSearchConfig cfg;
+	cfg.boxCentre = state.range(0) != 0;
+	ViewProposal top[6];
+	const Eigen::Vector3d centre = truth.t + Eigen::Vector3d(0, 0, 20);
+	for (auto _ : state) {
+		size_t n = searchViews(templates, cfg, ImageView<const float>(depth.data(), K.width, K.height, K.width),
+				       K, centre, std::span<ViewProposal>(top, 6));
+		benchmark::DoNotOptimize(n);
+	}
+	state.counters["rotations"] = viewSearchSize(templates, cfg);
+}
+BENCHMARK(BM_SearchViews)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
+
+} // namespace
+} // namespace ihf

@@ -1,0 +1,208 @@
+// SPDX-License-Identifier: MIT
+#include "core/pose/view_search.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "core/geometry/rotation.h"
+
+namespace ihf {
+
+Eigen::Matrix3d viewRotation(const ViewTemplates &t, int inplane, int v, int turn)
+{
+	return lookAtRotation(fibonacciDirection(v, t.viewpoints), 2.0 * M_PI * turn / inplane);
+}
+
+namespace {
+
+// Points of one view already rotated by the view's rotation; an in-plane
+// turn (c, s) then only mixes x and y.
+struct TurnedView {
+	const Eigen::Vector3f *a;
+	int n;
+	float c, s;
+};
+
+struct Tally {
+	int in = 0, out = 0, occ = 0, outside = 0, residuals = 0;
+};
+
+class SparseScorer
+{
+public:
+	SparseScorer(const ViewSearchConfig &config, ImageView<const float> observed, const CameraIntrinsics &K)
+		: cfg_(config), obs_(observed), fx_(static_cast<float>(K.fx)), fy_(static_cast<float>(K.fy)),
+		  cx_(static_cast<float>(K.cx)), cy_(static_cast<float>(K.cy))
+	{
+	}
+
+	// Classifies the points at translation t; residuals within the shift
+	// range are written to res when it is not null.
+	Tally tally(const TurnedView &v, const Eigen::Vector3f &t, float *res) const
+	{
+		Tally k;
+		for (int i = 0; i < v.n; ++i) {
+			const Eigen::Vector3f &a = v.a[i];
+			const float z = a.z() + t.z();
+			if (!(z > 1.0f)) {
+				++k.outside;
+				continue;
+			}
+			const float x = v.c * a.x() - v.s * a.y() + t.x();
+			const float y = v.s * a.x() + v.c * a.y() + t.y();
+			const int u = static_cast<int>(std::floor(fx_ * x / z + cx_ + 0.5f));
+			const int w = static_cast<int>(std::floor(fy_ * y / z + cy_ + 0.5f));
+			if (u < 0 || w < 0 || u >= obs_.width || w >= obs_.height) {
+				++k.outside;
+				continue;
+			}
+			const float o = obs_.at(u, w);
+			if (!(o > 0))
+				continue; // no depth: no evidence either way
+			const float e = o - z;
+			if (res && std::abs(e) < cfg_.maxShiftMm)
+				res[k.residuals++] = e;
+			if (std::abs(e) <= cfg_.inlierMm)
+				++k.in;
+			else if (e > 0)
+				++k.out;
+			else
+				++k.occ;
+		}
+		return k;
+	}
+
+	// Translation at t's depth that puts the centre of the points' projected
+	// extent on the optical axis (axes not trusted keep t's).
+	Eigen::Vector3f centred(const TurnedView &v, const Eigen::Vector3f &t, BoxAxes axes) const
+	{
+		float u0 = 1e30f, u1 = -1e30f, w0 = 1e30f, w1 = -1e30f;
+		for (int i = 0; i < v.n; ++i) {
+			const Eigen::Vector3f &a = v.a[i];
+			const float z = a.z() + t.z();
+			if (!(z > 1.0f))
+				return t;
+			const float u = fx_ * (v.c * a.x() - v.s * a.y() + t.x()) / z;
+			const float w = fy_ * (v.s * a.x() + v.c * a.y() + t.y()) / z;
+			u0 = std::min(u0, u);
+			u1 = std::max(u1, u);
+			w0 = std::min(w0, w);
+			w1 = std::max(w1, w);
+		}
+		// The box centre is on the optical axis (virtual_crop.h): the
+		// extent's centre offset from it, as a lateral move at t's depth.
+		Eigen::Vector3f out = t;
+		if (axes.x)
+			out.x() -= 0.5f * (u0 + u1) * t.z() / fx_;
+		if (axes.y)
+			out.y() -= 0.5f * (w0 + w1) * t.z() / fy_;
+		return out;
+	}
+
+	// Tallies at t, moved first along its ray by the median depth residual.
+	Tally aligned(const TurnedView &v, Eigen::Vector3f &t, float *res) const
+	{
+		Tally k = tally(v, t, cfg_.maxShiftMm > 0 ? res : nullptr);
+		if (cfg_.maxShiftMm > 0 && k.residuals >= 8) {
+			// The median residual moves the model onto the surface the
+			// sensor saw.
+			float *mid = res + k.residuals / 2;
+			std::nth_element(res, mid, res + k.residuals);
+			t *= (t.z() + *mid) / t.z();
+			k = tally(v, t, nullptr);
+		}
+		return k;
+	}
+
+	float score(const Tally &k, int n) const
+	{
+		const int compared = k.in + k.out + k.occ;
+		if (compared * 4 < n)
+			return 0.0f;
+		const float denom = k.in + cfg_.outlierWeight * k.out + cfg_.occludedWeight * k.occ;
+		const float depth = denom > 0 ? k.in / denom : 0.0f;
+		return depth * static_cast<float>(n - k.outside) / static_cast<float>(n);
+	}
+
+private:
+	const ViewSearchConfig &cfg_;
+	ImageView<const float> obs_;
+	float fx_, fy_, cx_, cy_;
+};
+
+// Inserts p into the best-first list out[0, count) unless a proposal as
+// good within `distinct` radians is there; worse ones nearby are dropped.
+size_t insertProposal(std::span<ViewProposal> out, size_t count, const ViewProposal &p, double distinct)
+{
+	if (count == out.size() && p.score <= out[count - 1].score)
+		return count;
+	for (size_t j = 0; j < count; ++j)
+		if (out[j].score >= p.score && rotationAngle(out[j].pose.R, p.pose.R) < distinct)
+			return count;
+	size_t kept = 0;
+	for (size_t j = 0; j < count; ++j)
+		if (rotationAngle(out[j].pose.R, p.pose.R) >= distinct)
+			out[kept++] = out[j];
+	count = kept;
+	size_t pos = count;
+	while (pos > 0 && out[pos - 1].score < p.score)
+		--pos;
+	if (pos >= out.size())
+		return count;
+	if (count < out.size())
+		++count;
+	std::move_backward(out.begin() + pos, out.begin() + count - 1, out.begin() + count);
+	out[pos] = p;
+	return count;
+}
+
+} // namespace
+
+size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &config,
+		   ImageView<const float> observed, const CameraIntrinsics &K,
+		   const Eigen::Vector3d &centre, std::span<ViewProposal> out, BoxAxes box)
+{
+	const int total = viewSearchSize(templates, config);
+	if (total == 0 || out.empty() || !(centre.z() > 1.0))
+		return 0;
+	const int n = std::min(templates.pointsPerView, kMaxViewPoints);
+	std::array<Eigen::Vector3f, kMaxViewPoints> rotated;
+	std::array<float, kMaxViewPoints> res;
+	const SparseScorer scorer(config, observed, K);
+	const Eigen::Vector3f t0 = centre.cast<float>();
+	const double distinct = config.distinctDeg * M_PI / 180.0;
+	size_t count = 0;
+	for (int v = 0; v < templates.viewpoints; ++v) {
+		const Eigen::Matrix3f r0 = viewRotation(templates, 1, v, 0).cast<float>();
+		const std::span<const Eigen::Vector3f> pts = templates.view(v);
+		for (int i = 0; i < n; ++i)
+			rotated[i] = r0 * pts[i];
+		for (int turn = 0; turn < config.inplane; ++turn) {
+			const double angle = 2.0 * M_PI * turn / config.inplane;
+			const TurnedView tv{rotated.data(), n, static_cast<float>(std::cos(angle)),
+					    static_cast<float>(std::sin(angle))};
+			Eigen::Vector3f t = t0;
+			ViewProposal p;
+			p.score = scorer.score(scorer.aligned(tv, t, res.data()), n);
+			if (config.boxCentre && (box.x || box.y)) {
+				Eigen::Vector3f tb = scorer.centred(tv, t0, box);
+				const float sb = scorer.score(scorer.aligned(tv, tb, res.data()), n);
+				if (sb > p.score) {
+					p.score = sb;
+					t = tb;
+				}
+			}
+			if (p.score <= 0 || (count == out.size() && p.score <= out[count - 1].score))
+				continue;
+			p.pose.R = viewRotation(templates, config.inplane, v, turn);
+			p.pose.t = t.cast<double>();
+			p.view = v;
+			p.turn = turn;
+			count = insertProposal(out, count, p, distinct);
+		}
+	}
+	return count;
+}
+
+} // namespace ihf

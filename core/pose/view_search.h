@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// Rotation proposals at a voted translation from the view templates
+// (view_templates.h), not in the paper. The forest's rotation votes are
+// weak under occlusion (BENCHMARKS.md: ~1 % of the vote weight within 20 deg
+// of the truth) while its translation votes are good, so every rotation of
+// the template set (viewpoints x in-plane turns) is verified at the voted
+// translation with the score's own rule (inliers against the scene seen
+// through the model, weighted, and lightly against occlusion), evaluated on
+// the templates' points instead of a rendering. The translation's depth is
+// first moved to the median depth residual of the rotation's points, which
+// absorbs the offset between the voted centre and the visible surface. The
+// best distinct rotations are returned for the full score and the polish.
+// No allocation: fixed-size stack scratch (kMaxViewPoints points).
+
+#include <span>
+
+#include "core/common/image.h"
+#include "core/geometry/camera_intrinsics.h"
+#include "core/geometry/pose.h"
+#include "core/pose/view_templates.h"
+
+namespace ihf {
+
+inline constexpr int kMaxViewPoints = 256;
+
+struct ViewSearchConfig {
+	int inplane = 24;      // in-plane turns per viewpoint (15 deg); 0: search off
+	int centres = 2;       // distinct best translations searched
+	int keep = 6;          // proposals per translation
+	float inlierMm = 12.0f;
+	float maxShiftMm = 40.0f; // depth alignment range (0: no alignment)
+	float outlierWeight = 3.0f;
+	float occludedWeight = 0.2f;
+	float distinctDeg = 20.0f; // proposals closer than this in rotation are one
+	// Each rotation is also tried at the translation that centres its
+	// projected points on the optical axis, which passes through the given
+	// box's centre in the virtual crop (the box taken as amodal, like the
+	// score's box factor); the better of the two is kept.
+	bool boxCentre = true;
+};
+
+// Which axes of the window (the given box) may centre a rotation: a side on
+// the frame border was clipped, so the box's centre on that axis is not the
+// object's.
+struct BoxAxes {
+	bool x = true;
+	bool y = true;
+};
+
+struct ViewProposal {
+	Pose pose;       // in the camera of `observed`
+	float score = 0; // sparse score in [0, 1]
+	int view = -1;
+	int turn = -1;
+};
+
+inline int viewSearchSize(const ViewTemplates &t, const ViewSearchConfig &c)
+{
+	return t.empty() || c.inplane <= 0 ? 0 : t.viewpoints * c.inplane;
+}
+
+// The rotation (model -> camera) of view v turned by `turn` of `inplane`.
+Eigen::Matrix3d viewRotation(const ViewTemplates &t, int inplane, int v, int turn);
+
+// Every rotation at `centre` (camera coordinates of the model origin),
+// scored against `observed` (depth in mm, 0 = missing) through K; the best
+// distinct ones are written to `out` (at most out.size(), best first).
+// Returns how many.
+size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &config,
+		   ImageView<const float> observed, const CameraIntrinsics &K,
+		   const Eigen::Vector3d &centre, std::span<ViewProposal> out, BoxAxes box = {});
+
+} // namespace ihf
