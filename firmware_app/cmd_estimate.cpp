@@ -32,6 +32,8 @@ struct EstimateOptions {
 	int iterations = -1;
 	double budgetMs = -1;
 	bool noIcp = false;
+	bool noViews = false;
+	bool paper = false;
 	bool quiet = false;
 	std::string trace;
 };
@@ -107,8 +109,10 @@ int runEstimate(const EstimateOptions &o)
 	EstimateSettings &s = *settings;
 	if (o.iterations >= 0)
 		s.estimator.iterations = o.iterations;
-	if (o.noIcp)
+	if (o.noIcp || o.paper)
 		s.estimator.icp = false;
+	if (o.noViews || o.paper)
+		s.estimator.views.inplane = 0;
 	if (o.budgetMs >= 0)
 		s.estimator.frameBudgetMs = static_cast<float>(o.budgetMs);
 
@@ -135,6 +139,10 @@ int runEstimate(const EstimateOptions &o)
 		s.limits.maxMeshVertices = std::max(s.limits.maxMeshVertices, (*m)->mesh().vertices.size());
 		s.limits.maxIbsN = std::max(s.limits.maxIbsN, (*m)->params().ibs.n);
 		s.limits.maxIbsPoints = std::max(s.limits.maxIbsPoints, (*m)->params().ibs.maxPoints);
+		if (Status st = prepareViewTemplates(**m, s); !st) {
+			std::fprintf(stderr, "ihf estimate: %s: %s\n", spec.substr(eq + 1).c_str(), st.error().message.c_str());
+			return kExitFailure;
+		}
 		models[id] = std::move(m.value());
 	}
 
@@ -303,7 +311,9 @@ void addEstimateCommand(CLI::App &root, Action &action)
 		->check(CLI::ExistingFile);
 	cmd->add_option("--iterations", opts->iterations, "Refinement iterations k (0: initial registration only)")
 		->check(CLI::Range(0, 100));
-	cmd->add_flag("--no-icp", opts->noIcp, "Skip the final ICP polish (the paper's method alone)");
+	cmd->add_flag("--no-icp", opts->noIcp, "Skip the final ICP polish");
+	cmd->add_flag("--no-views", opts->noViews, "Skip the view-template rotation search");
+	cmd->add_flag("--paper", opts->paper, "The paper's method alone: --no-icp --no-views");
 	cmd->add_option("--budget-ms", opts->budgetMs,
 			"Time budget per frame in ms, shared by its boxes (0: unlimited; default from the config, 33)")
 		->check(CLI::Range(0.0, 1e6));

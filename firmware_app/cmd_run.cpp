@@ -120,6 +120,8 @@ int runRun(const RunOptions &o)
 		l.maxMeshVertices = std::max(l.maxMeshVertices, (*m)->mesh().vertices.size());
 		l.maxIbsN = std::max(l.maxIbsN, (*m)->params().ibs.n);
 		l.maxIbsPoints = std::max(l.maxIbsPoints, (*m)->params().ibs.maxPoints);
+		if (Status st = prepareViewTemplates(**m, *es); !st)
+			return failWith(file.string() + ": " + std::string(st.error().message));
 		models[id] = m->get();
 		owned[id] = std::move(m.value());
 	}

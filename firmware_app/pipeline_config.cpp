@@ -273,7 +273,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	EstimateSettings s;
 	if (path.empty())
 		return s;
-	auto parsed = openConfig(path, {"refinement", "votes", "score", "icp", "search", "budget", "limits"});
+	auto parsed = openConfig(path, {"refinement", "votes", "score", "icp", "search", "view_search", "budget", "limits"});
 	if (!parsed)
 		return parsed.error();
 	const toml::table &root = *parsed;
@@ -327,6 +327,18 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	search.get("bank_keep", e.bank.keep);
 	IHF_SECTION(search);
 
+	TableReader views(root["view_search"].as_table(), file, "view_search");
+	views.get("inplane", e.views.inplane);
+	views.get("centres", e.views.centres);
+	views.get("keep", e.views.keep);
+	views.get("inlier_mm", e.views.inlierMm);
+	views.get("max_shift_mm", e.views.maxShiftMm);
+	views.get("distinct_deg", e.views.distinctDeg);
+	views.get("box_centre", e.views.boxCentre);
+	views.get("viewpoints", s.viewTemplates.viewpoints);
+	views.get("points", s.viewTemplates.pointsPerView);
+	IHF_SECTION(views);
+
 	TableReader budget(root["budget"].as_table(), file, "budget");
 	budget.get("frame_ms", e.frameBudgetMs);
 	IHF_SECTION(budget);
@@ -363,6 +375,14 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.bank.inplane >= 1, "search.bank_inplane"),
 			  inRange(e.bank.centres >= 1 && e.bank.centres <= 4, "search.bank_centres"),
 			  inRange(e.bank.keep >= 1 && e.bank.keep <= 8, "search.bank_keep"),
+			  inRange(e.views.inplane >= 0 && e.views.inplane <= 360, "view_search.inplane"),
+			  inRange(e.views.centres >= 1 && e.views.centres <= 4, "view_search.centres"),
+			  inRange(e.views.keep >= 1 && e.views.keep <= 16, "view_search.keep"),
+			  inRange(e.views.inlierMm > 0, "view_search.inlier_mm"),
+			  inRange(e.views.maxShiftMm >= 0, "view_search.max_shift_mm"),
+			  inRange(e.views.distinctDeg >= 0, "view_search.distinct_deg"),
+			  inRange(s.viewTemplates.viewpoints >= 1 && s.viewTemplates.viewpoints <= 100000, "view_search.viewpoints"),
+			  inRange(s.viewTemplates.pointsPerView >= 8 && s.viewTemplates.pointsPerView <= kMaxViewPoints, "view_search.points"),
 			  inRange(e.frameBudgetMs >= 0, "budget.frame_ms")})
 		if (!st)
 			return st.error();
@@ -476,6 +496,18 @@ Expected<RunSettings> loadRunConfig(const std::filesystem::path &path)
 	s.boxes = resolveUri(s.boxes, base, {"file", "unix"});
 	s.poses = resolveUri(s.poses, base, {"file"});
 	return s;
+}
+
+Status prepareViewTemplates(ObjectModel &model, const EstimateSettings &settings)
+{
+	if (settings.estimator.views.inplane <= 0 || !model.viewTemplates().empty())
+		return {};
+	auto points = buildViewTemplatePoints(model.mesh(), model.params().diameter, settings.viewTemplates);
+	if (!points)
+		return points.error();
+	model.attachViewTemplates(settings.viewTemplates.viewpoints, settings.viewTemplates.pointsPerView,
+				  std::move(*points));
+	return {};
 }
 
 } // namespace ihf::app

@@ -13,6 +13,7 @@
 
 #include "core/common/expected.h"
 #include "core/estimation/pose_estimator.h"
+#include "core/training/view_template_builder.h"
 #include "core/forest/forest_trainer.h"
 #include "core/forest/forest_view.h"
 #include "core/model/model_params.h"
@@ -33,7 +34,15 @@ struct TrainSettings {
 struct EstimateSettings {
 	EstimatorConfig estimator;
 	EstimatorLimits limits;
+	// Templates built at load for forest files written without them
+	// ([views] viewpoints, points).
+	ViewTemplateConfig viewTemplates;
 };
+
+// Gives the model view templates when the view search is on and its file
+// has none (forests trained before templates were stored): built from its
+// mesh, about a second. Offline (allocates): call at start-up.
+Status prepareViewTemplates(ObjectModel &model, const EstimateSettings &settings);
 
 // `ihf run` (config/device.toml). Relative paths in the file (recording:
 // URIs, forests, box and pose files, the estimation config) are relative to

@@ -55,7 +55,8 @@ run() { # name, forests..., options...
 		> "$out/results/$name.txt"
 	echo "== $name"; cat "$out/results/$name.txt"
 }
-run fixed_k0 "${forests_fix[@]}" --iterations 0 --no-icp
-run fixed_k5 "${forests_fix[@]}" --iterations 5 --no-icp
-run variable_k5 "${forests_var[@]}" --iterations 5 --no-icp
+run fixed_k0 "${forests_fix[@]}" --iterations 0 --paper
+run fixed_k5 "${forests_fix[@]}" --iterations 5 --paper
+run variable_k5 "${forests_var[@]}" --iterations 5 --paper
 run variable_k5_icp "${forests_var[@]}" --iterations 5
+run fixed_k5_icp "${forests_fix[@]}" --iterations 5 # the default: view search + ICP

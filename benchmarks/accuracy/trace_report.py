@@ -46,9 +46,10 @@ def rot_deg(a, b):
     return math.degrees(math.acos(max(-1.0, min(1.0, (tr - 1) / 2))))
 
 
-HYP = ('mode', 'icp', 'search', 'bank')
+HYP = ('mode', 'icp', 'search', 'bank', 'view')
 cases = []  # (truth, wrong hypotheses, category)
 counts = {}
+reach = {}  # stage -> boxes where that stage had a hypothesis near the truth
 for key, rows in sorted(boxes.items()):
     truth = [j for j in rows if j['stage'] == 'given']
     hyps = [j for j in rows if j['stage'] in HYP]
@@ -58,6 +59,8 @@ for key, rows in sorted(boxes.items()):
     near = lambda j: math.dist(j['t'], g['t']) < 0.1 * d and rot_deg(j['R'], g['R']) < 15
     t_near = lambda j: math.dist(j['t'], g['t']) < 0.3 * d
     best = max(hyps, key=lambda j: j['score'])
+    for stage in {j['stage'] for j in hyps if near(j)}:
+        reach[stage] = reach.get(stage, 0) + 1
     if near(best):
         cat = 'ok'
     elif g['score'] > best['score']:
@@ -70,6 +73,10 @@ for key, rows in sorted(boxes.items()):
 print(f'{len(cases)} boxes with a traced ground truth')
 for cat, n in sorted(counts.items(), key=lambda x: -x[1]):
     print(f'  {cat:16s} {n:5d}  {n / max(1, len(cases)):.3f}')
+print('boxes with a hypothesis near the truth, by the stage that made it:')
+for stage in HYP:
+    if stage in reach:
+        print(f'  {stage:16s} {reach[stage]:5d}  {reach[stage] / max(1, len(cases)):.3f}')
 
 if a.replay:
     def score(j, w_out, w_occ, box_pow):

@@ -58,12 +58,12 @@ ihfRun() { # name, prep seconds, forest args..., options...
 	echo "${prep:-null}" > "$out/$name.prep"
 	score "$name"
 }
-ihfRun ihf_variable_k0 "$trainVar" "${forests[@]}" --iterations 0 --no-icp
-ihfRun ihf_variable_k5 "$trainVar" "${forests[@]}" --iterations 5 --no-icp
+ihfRun ihf_variable_k0 "$trainVar" "${forests[@]}" --iterations 0 --paper
+ihfRun ihf_variable_k5 "$trainVar" "${forests[@]}" --iterations 5 --paper
 ihfRun ihf_variable_k5_icp "$trainVar" "${forests[@]}" --iterations 5
 if [ ${#fixed[@]} -gt 0 ]; then
-	ihfRun ihf_fixed_k0 "$trainFix" "${fixed[@]}" --iterations 0 --no-icp
-	ihfRun ihf_fixed_k5 "$trainFix" "${fixed[@]}" --iterations 5 --no-icp
+	ihfRun ihf_fixed_k0 "$trainFix" "${fixed[@]}" --iterations 0 --paper
+	ihfRun ihf_fixed_k5 "$trainFix" "${fixed[@]}" --iterations 5 --paper
 	ihfRun ihf_fixed_k5_icp "$trainFix" "${fixed[@]}" --iterations 5 # config/train.toml's kind since session 3
 fi
 for p in ${peers//,/ }; do

@@ -116,6 +116,7 @@ PoseEstimator::BoxScope::BoxScope(PoseEstimator &e, const EstimatorConfig &confi
 	if (ownFrame_)
 		e_.beginFrame(1, config.frameBudgetMs);
 	e_.budget_.beginBox(e_.timer_.start());
+	e_.boxCut_ = false;
 }
 
 PoseEstimator::BoxScope::~BoxScope()
@@ -143,7 +144,19 @@ bool PoseEstimator::refinementFits(const EstimatorConfig &config)
 	// Keep room for the polish after the last iteration.
 	if (config.icp)
 		predicted += costs_.average(Stage::kIcp);
-	return fitsBudget(predicted, budgetStops_);
+	return boxFits(predicted);
+}
+
+// Whether a refinement iteration or candidate search still fits; a box is
+// counted as cut short once, whichever stage the budget refused.
+bool PoseEstimator::boxFits(int64_t predictedNs)
+{
+	if (budget_.fits(timer_.now(), predictedNs))
+		return true;
+	if (!boxCut_)
+		++budgetStops_;
+	boxCut_ = true;
+	return false;
 }
 
 bool PoseEstimator::icpFits()
@@ -232,19 +245,12 @@ void PoseEstimator::searchRotationBank(const CameraIntrinsics &K, const ObjectMo
 	constexpr int kMaxCentres = 4, kMaxKeep = 8;
 	const double diameter = model.params().diameter;
 	Eigen::Vector3d centres[kMaxCentres];
-	int nc = 0;
-	for (size_t i = 0; i < keptCount_ && nc < std::min(kMaxCentres, config.bank.centres); ++i) {
-		bool seen = false;
-		for (int j = 0; j < nc; ++j)
-			seen = seen || (centres[j] - kept_[i].pose.t).norm() < 0.1 * diameter;
-		if (!seen)
-			centres[nc++] = kept_[i].pose.t;
-	}
+	const int nc = keptCentres(diameter, std::min(kMaxCentres, config.bank.centres), centres);
 	const int size = rotationBankSize(config.bank);
 	const int keepN = std::clamp(config.bank.keep, 1, kMaxKeep);
 	const float same = static_cast<float>(0.05 * diameter);
 	for (int c = 0; c < nc; ++c) {
-		if (!fitsBudget(costs_.average(Stage::kBank), budgetStops_))
+		if (!boxFits(costs_.average(Stage::kBank)))
 			return;
 		const int64_t start = timer_.last();
 		Hypothesis top[kMaxKeep];
@@ -271,6 +277,57 @@ void PoseEstimator::searchRotationBank(const CameraIntrinsics &K, const ObjectMo
 			keep(top[j], same);
 		}
 		costs_.observe(Stage::kBank, timer_.lap(Stage::kBank) - start);
+	}
+}
+
+int PoseEstimator::keptCentres(double diameter, int max, Eigen::Vector3d *centres) const
+{
+	int nc = 0;
+	for (size_t i = 0; i < keptCount_ && nc < max; ++i) {
+		bool seen = false;
+		for (int j = 0; j < nc; ++j)
+			seen = seen || (centres[j] - kept_[i].pose.t).norm() < 0.1 * diameter;
+		if (!seen)
+			centres[nc++] = kept_[i].pose.t;
+	}
+	return nc;
+}
+
+// Verifies every view-template rotation at each of the best distinct
+// translations; the best proposals are scored in full and kept. Runs under
+// the polish's budget check, one translation at a time.
+void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectModel &model,
+					const EstimatorConfig &config)
+{
+	constexpr int kMaxCentres = 4, kMaxKeep = 16;
+	const double diameter = model.params().diameter;
+	Eigen::Vector3d centres[kMaxCentres];
+	const int nc = keptCentres(diameter, std::clamp(config.views.centres, 1, kMaxCentres), centres);
+	ViewSearchConfig vc = config.views;
+	vc.outlierWeight = config.score.outlierWeight;
+	vc.occludedWeight = config.score.occludedWeight;
+	ViewProposal top[kMaxKeep];
+	const size_t keepN = static_cast<size_t>(std::clamp(config.views.keep, 1, kMaxKeep));
+	const float same = static_cast<float>(0.05 * diameter);
+	for (int c = 0; c < nc; ++c) {
+		if (!boxFits(costs_.average(Stage::kViews)))
+			return;
+		const int64_t start = timer_.last();
+		// A side on the frame border was clipped: that axis' centre is not
+		// the object's.
+		const BoxAxes axes{!openSides_.left && !openSides_.right, !openSides_.top && !openSides_.bottom};
+		const size_t n = searchViews(model.viewTemplates(), vc, observedView_, K, centres[c],
+					     std::span<ViewProposal>(top, keepN), axes);
+		for (size_t j = 0; j < n; ++j) {
+			Hypothesis h;
+			h.pose = top[j].pose;
+			h.score = score(h.pose, K, model, config);
+			h.iteration = config.iterations + 1;
+			h.valid = true;
+			report(h.iteration, "view", static_cast<int>(j), h.pose, h.score, top[j].score);
+			keep(h, same);
+		}
+		costs_.observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
 	}
 }
 
@@ -600,6 +657,9 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	}
 	if (rotationBankSize(config.bank) > 0)
 		searchRotationBank(vk, model, config);
+	if (viewSearchSize(model.viewTemplates(), config.views) > 0)
+		searchViewTemplates(vk, model, config);
+	out.budgetStopped = boxCut_;
 	Hypothesis best = kept_[0];
 
 	// Polish the best distinct hypotheses: a local search of the score, then

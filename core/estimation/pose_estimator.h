@@ -44,6 +44,7 @@
 #include "core/model/object_model.h"
 #include "core/pose/local_pose_search.h"
 #include "core/pose/rotation_bank.h"
+#include "core/pose/view_search.h"
 #include "core/pose/vote_modes.h"
 #include "core/render/depth_renderer.h"
 #include "core/runtime/arena.h"
@@ -77,6 +78,10 @@ struct EstimatorConfig {
 	// the refinement; the best join the hypotheses to polish. Not in the
 	// paper (its rotation comes from the votes alone).
 	RotationBankConfig bank;
+	// Every rotation of the model's view templates verified at the best
+	// distinct translations (view_search.h); the best join the hypotheses
+	// to polish. Not in the paper. Its weights follow `score`.
+	ViewSearchConfig views;
 	ScoreConfig score;
 	int minValidPixels = 60;
 	// Refinement normalises with the unit cube of the whole rendered
@@ -141,7 +146,7 @@ struct PoseEstimate {
 	int votes = 0;
 	bool icpApplied = false;
 	HypothesisScore score;
-	bool budgetStopped = false; // refinement cut short by the frame budget
+	bool budgetStopped = false; // refinement or a candidate search cut short by the frame budget
 	bool icpSkipped = false;    // ICP left out by the frame budget
 };
 
@@ -220,6 +225,10 @@ private:
 	void keep(const Hypothesis &h, float sameTranslationMm);
 	void searchRotationBank(const CameraIntrinsics &K, const ObjectModel &model,
 				const EstimatorConfig &config);
+	void searchViewTemplates(const CameraIntrinsics &K, const ObjectModel &model,
+				 const EstimatorConfig &config);
+	// The first `max` distinct translations (0.1 diameter apart) of kept_.
+	int keptCentres(double diameter, int max, Eigen::Vector3d *centres) const;
 	void report(int iteration, const char *stage, int rank, const Pose &virtualPose,
 		    const HypothesisScore &s, float density) const;
 	HypothesisScore score(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model,
@@ -238,6 +247,7 @@ private:
 	bool refinementFits(const EstimatorConfig &config);
 	bool icpFits();
 	bool fitsBudget(int64_t predictedNs, uint64_t &refusals);
+	bool boxFits(int64_t predictedNs);
 
 	EstimatorLimits limits_;
 	Arena arena_;
@@ -252,6 +262,7 @@ private:
 	StageCostModel costs_;
 	FrameBudget budget_;
 	uint64_t iterationsRun_ = 0, budgetStops_ = 0, icpSkipped_ = 0;
+	bool boxCut_ = false; // the budget refused a stage of the current box
 	EstimatorPeaks peaks_;
 
 	// Persistent (sized from the limits).

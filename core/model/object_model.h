@@ -7,10 +7,12 @@
 // into the mapped file.
 
 #include <memory>
+#include <vector>
 
 #include "core/forest/forest_view.h"
 #include "core/geometry/mesh.h"
 #include "core/model/model_params.h"
+#include "core/pose/view_templates.h"
 
 namespace ihf {
 
@@ -21,6 +23,24 @@ public:
 	virtual const ModelParams &params() const = 0;
 	virtual const Mesh &mesh() const = 0;
 	virtual const ForestView &forest() const = 0;
+
+	// Sparse view templates for the rotation search (view_search.h): from
+	// the forest file, or attached after loading one written without them;
+	// empty otherwise.
+	const ViewTemplates &viewTemplates() const { return views_; }
+	void attachViewTemplates(int viewpoints, int pointsPerView, std::vector<Eigen::Vector3f> points)
+	{
+		ownedViews_ = std::move(points);
+		views_ = ViewTemplates{viewpoints, pointsPerView, ownedViews_};
+	}
+
+protected:
+	// Templates that live elsewhere (the mapped file).
+	void setViewTemplates(const ViewTemplates &views) { views_ = views; }
+
+private:
+	std::vector<Eigen::Vector3f> ownedViews_;
+	ViewTemplates views_;
 };
 
 // An in-memory model holding its own packed forest.

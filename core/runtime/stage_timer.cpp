@@ -18,6 +18,7 @@ const char *stageName(Stage stage)
 	case Stage::kModes: return "vote_modes";
 	case Stage::kScore: return "render_score";
 	case Stage::kBank: return "bank";
+	case Stage::kViews: return "views";
 	case Stage::kIcp: return "icp";
 	case Stage::kCount: break;
 	}

@@ -29,6 +29,7 @@ enum class Stage : uint8_t {
 	kModes,     // vote mode finding
 	kScore,     // rendering and scoring the hypotheses
 	kBank,      // rotation bank at the best translations (optional)
+	kViews,     // view-template rotation search at the best translations (optional)
 	kIcp,       // final ICP polish and its score
 	kCount,
 };

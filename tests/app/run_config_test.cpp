@@ -137,6 +137,12 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.bank.viewpoints, b.bank.viewpoints);
 	EXPECT_EQ(a.score.outlierWeight, b.score.outlierWeight);
 	EXPECT_EQ(a.score.occludedWeight, b.score.occludedWeight);
+	EXPECT_EQ(a.views.inplane, b.views.inplane);
+	EXPECT_EQ(a.views.centres, b.views.centres);
+	EXPECT_EQ(a.views.keep, b.views.keep);
+	EXPECT_EQ(a.views.boxCentre, b.views.boxCentre);
+	EXPECT_EQ(none->viewTemplates.viewpoints, bundled->viewTemplates.viewpoints);
+	EXPECT_EQ(none->viewTemplates.pointsPerView, bundled->viewTemplates.pointsPerView);
 }
 
 TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
@@ -144,6 +150,8 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 	const fs::path dir = test::freshTempDir("estimate_config_range");
 	for (const auto &[text, key] : std::vector<std::pair<std::string, std::string>>{
 		     {"[search]\nbank_keep = 20\n", "search.bank_keep"},
+		     {"[view_search]\nkeep = 0\n", "view_search.keep"},
+		     {"[view_search]\npoints = 1000\n", "view_search.points"},
 		     {"[search]\nlevels = -1\n", "search.levels"},
 		     {"[votes]\nrotation_modes = 0\n", "votes.rotation_modes"},
 		     {"[refinement]\npsi1 = 1.1\npsi2 = 1.0\n", "refinement.psi1/psi2"}}) {

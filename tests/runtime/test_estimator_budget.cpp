@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "core/estimation/pose_estimator.h"
+#include "core/training/view_template_builder.h"
 #include "tests/runtime/small_model.h"
 
 namespace ihf {
@@ -164,6 +165,43 @@ TEST_F(EstimatorBudget, BoxesShareTheFrame)
 	EXPECT_EQ(s.frameOverruns, 0u);
 	EXPECT_LE(s.worstFrameNs, 80 * kMs);
 	EXPECT_GT(s.worstFrameNs, 60 * kMs);
+}
+
+// The view-template search runs under the same budget; a box the budget cuts
+// both in refinement and in the search is counted once.
+TEST_F(EstimatorBudget, ViewSearchRunsUnderTheBudgetAndCountsTheBoxOnce)
+{
+	ObjectModel &model = *model_->model;
+	auto points = buildViewTemplatePoints(model.mesh(), model.params().diameter, {40, 32});
+	ASSERT_TRUE(points) << points.error().message;
+	model.attachViewTemplates(40, 32, std::move(*points));
+	struct Detach {
+		ObjectModel &m;
+		~Detach() { m.attachViewTemplates(0, 0, {}); }
+	} detach{model};
+
+	EstimatorConfig c = config(2, 1e6f);
+	c.views.inplane = 6;
+	{
+		test::StepClock clock(kMs);
+		PoseEstimator e({}, &clock);
+		PoseEstimate r = run(e, c);
+		ASSERT_TRUE(r.found) << r.reason;
+		EXPECT_FALSE(r.budgetStopped);
+		EXPECT_GT(e.stats().stages[static_cast<int>(Stage::kViews)].calls, 0u);
+	}
+	c.frameBudgetMs = 3.0f; // the initial registration alone overruns it
+	{
+		test::StepClock clock(kMs);
+		PoseEstimator e({}, &clock);
+		PoseEstimate r = run(e, c);
+		ASSERT_TRUE(r.found) << r.reason;
+		EXPECT_TRUE(r.budgetStopped);
+		EXPECT_EQ(r.iterationsDone, 0);
+		EstimatorStats s = e.stats();
+		EXPECT_EQ(s.stages[static_cast<int>(Stage::kViews)].calls, 0u);
+		EXPECT_EQ(s.budgetStops, 1u);
+	}
 }
 
 TEST_F(EstimatorBudget, ArenaMatchesItsSizingAndMeasuresTheLargestBox)

@@ -20,6 +20,7 @@
 
 #include "core/dataset/bop_dataset.h"
 #include "core/estimation/pose_estimator.h"
+#include "core/training/view_template_builder.h"
 #include "core/features/part_extractor.h"
 #include "core/features/unit_cube_frame.h"
 #include "tests/runtime/alloc_interpose.h"
@@ -172,6 +173,13 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 	test::SmallModel ape = test::trainSmallModel(1, 11);
 	test::SmallModel duck = test::trainSmallModel(9, 12);
 	ASSERT_TRUE(ape.model && duck.model);
+	// View templates for the rotation search, built at start-up as ihf
+	// estimate builds them for forests without.
+	for (OwnedObjectModel *m : {ape.model.get(), duck.model.get()}) {
+		auto pts = buildViewTemplatePoints(m->mesh(), m->params().diameter, {60, 64});
+		ASSERT_TRUE(pts.ok());
+		m->attachViewTemplates(60, 64, std::move(*pts));
+	}
 
 	// The real frame.
 	auto dataset = BopDataset::open(test::lmoDir(), "test");
@@ -215,9 +223,13 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 	cfg.iterations = 2;
 	cfg.icp = true;
 	cfg.partStride = 8; // fewer parts and votes than the model's 4: a faster test, the same code
-	// Every third frame also runs the optional rotation bank and score search.
+	cfg.views.inplane = 0;
+	// Every third frame also runs the optional rotation bank, score search
+	// and view-template search.
 	EstimatorConfig searching = cfg;
 	searching.bank = RotationBankConfig{10, 4, 1, 2};
+	searching.views.inplane = 8;
+	searching.views.keep = 4;
 	searching.search.levels = 1;
 	searching.search.maxPasses = 1;
 
@@ -268,6 +280,7 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 	EXPECT_EQ(s.frames, static_cast<uint64_t>(kWarmUp + kFrames));
 	EXPECT_GE(s.iterations, static_cast<uint64_t>(kFrames));
 	EXPECT_GT(s.stages[static_cast<int>(Stage::kBank)].calls, 0u);
+	EXPECT_GT(s.stages[static_cast<int>(Stage::kViews)].calls, 0u);
 	std::printf("frames %d, boxes found %d, no pose %d, budget stops %d, arena used %zu of %zu bytes\n",
 		    kWarmUp + kFrames, found, noPose, budgetStops, s.arenaHighWater, s.arenaCapacity);
 	for (int i = 0; i < kStageCount; ++i)
