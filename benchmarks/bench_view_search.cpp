@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // View-template rotation search (core/pose/view_search.h): building the
 // templates of the LM-O ape at load (320 directions x 128 points, the
-// default), and one search at a translation (320 x 24 rotations, with and
-// without the box-centred translation) on a render of the ape before a wall.
+// default), and one search at a translation (320 x 24 rotations) on a
+// render of the ape before a wall: with and without the box-centred
+// translation, coarse-to-fine (default) or one pass on all points.
 //
 // Run: build/bin/bench_view_search [--benchmark_filter=...]
 
@@ -82,6 +83,8 @@ void BM_SearchViews(benchmark::State &state)
 			d = 1150.0f;
 	ViewSearchConfig cfg;
 	cfg.boxCentre = state.range(0) != 0;
+	if (state.range(1) == 0)
+		cfg.coarsePoints = 0;
 	ViewProposal top[6];
 	const Eigen::Vector3d centre = truth.t + Eigen::Vector3d(0, 0, 20);
 	for (auto _ : state) {
@@ -91,7 +94,13 @@ void BM_SearchViews(benchmark::State &state)
 	}
 	state.counters["rotations"] = viewSearchSize(templates, cfg);
 }
-BENCHMARK(BM_SearchViews)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SearchViews)
+	->ArgNames({"box_centre", "coarse"})
+	->Args({1, 1})
+	->Args({1, 0})
+	->Args({0, 1})
+	->Args({0, 0})
+	->Unit(benchmark::kMillisecond);
 
 } // namespace
 } // namespace ihf

@@ -335,6 +335,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	views.get("max_shift_mm", e.views.maxShiftMm);
 	views.get("distinct_deg", e.views.distinctDeg);
 	views.get("box_centre", e.views.boxCentre);
+	views.get("coarse_points", e.views.coarsePoints);
+	views.get("coarse_keep", e.views.coarseKeep);
 	views.get("viewpoints", s.viewTemplates.viewpoints);
 	views.get("points", s.viewTemplates.pointsPerView);
 	IHF_SECTION(views);
@@ -381,6 +383,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.views.inlierMm > 0, "view_search.inlier_mm"),
 			  inRange(e.views.maxShiftMm >= 0, "view_search.max_shift_mm"),
 			  inRange(e.views.distinctDeg >= 0, "view_search.distinct_deg"),
+			  inRange(e.views.coarsePoints >= 0 && e.views.coarsePoints <= kMaxViewPoints, "view_search.coarse_points"),
+			  inRange(e.views.coarseKeep >= 1 && e.views.coarseKeep <= kMaxCoarseKeep, "view_search.coarse_keep"),
 			  inRange(s.viewTemplates.viewpoints >= 1 && s.viewTemplates.viewpoints <= 100000, "view_search.viewpoints"),
 			  inRange(s.viewTemplates.pointsPerView >= 8 && s.viewTemplates.pointsPerView <= kMaxViewPoints, "view_search.points"),
 			  inRange(e.frameBudgetMs >= 0, "budget.frame_ms")})

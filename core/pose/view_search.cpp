@@ -159,6 +159,21 @@ size_t insertProposal(std::span<ViewProposal> out, size_t count, const ViewPropo
 
 } // namespace
 
+namespace {
+
+// A rotation the coarse pass kept.
+struct CoarseCandidate {
+	float score;
+	int view, turn;
+};
+
+bool betterCandidate(const CoarseCandidate &a, const CoarseCandidate &b)
+{
+	return a.score > b.score;
+}
+
+} // namespace
+
 size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &config,
 		   ImageView<const float> observed, const CameraIntrinsics &K,
 		   const Eigen::Vector3d &centre, std::span<ViewProposal> out, BoxAxes box)
@@ -172,35 +187,94 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	const SparseScorer scorer(config, observed, K);
 	const Eigen::Vector3f t0 = centre.cast<float>();
 	const double distinct = config.distinctDeg * M_PI / 180.0;
-	size_t count = 0;
-	for (int v = 0; v < templates.viewpoints; ++v) {
+	const bool centring = config.boxCentre && (box.x || box.y);
+
+	// Score of one rotation on the first m of `pts` (already rotated by the
+	// view), at the given and the box-centred translation; t gets the
+	// better one's.
+	auto evaluate = [&](const Eigen::Vector3f *pts, int m, int turn, Eigen::Vector3f &t) {
+		const double angle = 2.0 * M_PI * turn / config.inplane;
+		const TurnedView tv{pts, m, static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle))};
+		t = t0;
+		float best = scorer.score(scorer.aligned(tv, t, res.data()), m);
+		if (centring) {
+			Eigen::Vector3f tb = scorer.centred(tv, t0, box);
+			const float sb = scorer.score(scorer.aligned(tv, tb, res.data()), m);
+			if (sb > best) {
+				best = sb;
+				t = tb;
+			}
+		}
+		return best;
+	};
+	auto rotateView = [&](int v, int stride) {
 		const Eigen::Matrix3f r0 = viewRotation(templates, 1, v, 0).cast<float>();
 		const std::span<const Eigen::Vector3f> pts = templates.view(v);
-		for (int i = 0; i < n; ++i)
-			rotated[i] = r0 * pts[i];
-		for (int turn = 0; turn < config.inplane; ++turn) {
-			const double angle = 2.0 * M_PI * turn / config.inplane;
-			const TurnedView tv{rotated.data(), n, static_cast<float>(std::cos(angle)),
-					    static_cast<float>(std::sin(angle))};
-			Eigen::Vector3f t = t0;
-			ViewProposal p;
-			p.score = scorer.score(scorer.aligned(tv, t, res.data()), n);
-			if (config.boxCentre && (box.x || box.y)) {
-				Eigen::Vector3f tb = scorer.centred(tv, t0, box);
-				const float sb = scorer.score(scorer.aligned(tv, tb, res.data()), n);
-				if (sb > p.score) {
-					p.score = sb;
-					t = tb;
-				}
+		int m = 0;
+		for (int i = 0; i < n; i += stride)
+			rotated[m++] = r0 * pts[i];
+		return m;
+	};
+	size_t count = 0;
+	auto propose = [&](int v, int turn, float score, const Eigen::Vector3f &t) {
+		if (score <= 0 || (count == out.size() && score <= out[count - 1].score))
+			return;
+		ViewProposal p;
+		p.score = score;
+		p.pose.R = viewRotation(templates, config.inplane, v, turn);
+		p.pose.t = t.cast<double>();
+		p.view = v;
+		p.turn = turn;
+		count = insertProposal(out, count, p, distinct);
+	};
+
+	const int stride = config.coarsePoints > 0 ? std::max(1, n / config.coarsePoints) : 1;
+	const int keep = std::clamp(config.coarseKeep, 1, kMaxCoarseKeep);
+	if (stride == 1) {
+		for (int v = 0; v < templates.viewpoints; ++v) {
+			const int m = rotateView(v, 1);
+			for (int turn = 0; turn < config.inplane; ++turn) {
+				Eigen::Vector3f t;
+				const float score = evaluate(rotated.data(), m, turn, t);
+				propose(v, turn, score, t);
 			}
-			if (p.score <= 0 || (count == out.size() && p.score <= out[count - 1].score))
-				continue;
-			p.pose.R = viewRotation(templates, config.inplane, v, turn);
-			p.pose.t = t.cast<double>();
-			p.view = v;
-			p.turn = turn;
-			count = insertProposal(out, count, p, distinct);
 		}
+		return count;
+	}
+
+	// Coarse pass: a min-heap of the best `keep` rotations.
+	std::array<CoarseCandidate, kMaxCoarseKeep> heap;
+	size_t held = 0;
+	for (int v = 0; v < templates.viewpoints; ++v) {
+		const int m = rotateView(v, stride);
+		for (int turn = 0; turn < config.inplane; ++turn) {
+			Eigen::Vector3f t;
+			const float score = evaluate(rotated.data(), m, turn, t);
+			if (score <= 0)
+				continue;
+			if (held < static_cast<size_t>(keep)) {
+				heap[held++] = {score, v, turn};
+				std::push_heap(heap.begin(), heap.begin() + held, betterCandidate);
+			} else if (score > heap[0].score) {
+				std::pop_heap(heap.begin(), heap.begin() + held, betterCandidate);
+				heap[held - 1] = {score, v, turn};
+				std::push_heap(heap.begin(), heap.begin() + held, betterCandidate);
+			}
+		}
+	}
+	// Fine pass on all points, view by view so each view is rotated once.
+	std::sort(heap.begin(), heap.begin() + held, [](const CoarseCandidate &a, const CoarseCandidate &b) {
+		return a.view != b.view ? a.view < b.view : a.turn < b.turn;
+	});
+	int rotatedView = -1, m = 0;
+	for (size_t i = 0; i < held; ++i) {
+		if (heap[i].view != rotatedView) {
+			m = rotateView(heap[i].view, 1);
+			rotatedView = heap[i].view;
+		}
+		Eigen::Vector3f t;
+		const float score = evaluate(rotated.data(), m, heap[i].turn, t);
+		propose(heap[i].view, heap[i].turn, score, t);
 	}
 	return count;
 }

@@ -12,7 +12,8 @@
 // first moved to the median depth residual of the rotation's points, which
 // absorbs the offset between the voted centre and the visible surface. The
 // best distinct rotations are returned for the full score and the polish.
-// No allocation: fixed-size stack scratch (kMaxViewPoints points).
+// No allocation: fixed-size stack scratch (kMaxViewPoints points,
+// kMaxCoarseKeep coarse candidates).
 
 #include <span>
 
@@ -24,6 +25,7 @@
 namespace ihf {
 
 inline constexpr int kMaxViewPoints = 256;
+inline constexpr int kMaxCoarseKeep = 2048;
 
 struct ViewSearchConfig {
 	int inplane = 24;      // in-plane turns per viewpoint (15 deg); 0: search off
@@ -39,6 +41,11 @@ struct ViewSearchConfig {
 	// box's centre in the virtual crop (the box taken as amodal, like the
 	// score's box factor); the better of the two is kept.
 	bool boxCentre = true;
+	// Coarse-to-fine: every rotation is first scored on an even subset of
+	// coarsePoints of its view's points; only the coarseKeep best are
+	// scored on all of them. 0: one pass on all points.
+	int coarsePoints = 32;
+	int coarseKeep = 1024; // at most kMaxCoarseKeep
 };
 
 // Which axes of the window (the given box) may centre a rotation: a side on

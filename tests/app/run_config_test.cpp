@@ -141,6 +141,8 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.views.centres, b.views.centres);
 	EXPECT_EQ(a.views.keep, b.views.keep);
 	EXPECT_EQ(a.views.boxCentre, b.views.boxCentre);
+	EXPECT_EQ(a.views.coarsePoints, b.views.coarsePoints);
+	EXPECT_EQ(a.views.coarseKeep, b.views.coarseKeep);
 	EXPECT_EQ(none->viewTemplates.viewpoints, bundled->viewTemplates.viewpoints);
 	EXPECT_EQ(none->viewTemplates.pointsPerView, bundled->viewTemplates.pointsPerView);
 }
@@ -152,6 +154,7 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[search]\nbank_keep = 20\n", "search.bank_keep"},
 		     {"[view_search]\nkeep = 0\n", "view_search.keep"},
 		     {"[view_search]\npoints = 1000\n", "view_search.points"},
+		     {"[view_search]\ncoarse_keep = 5000\n", "view_search.coarse_keep"},
 		     {"[search]\nlevels = -1\n", "search.levels"},
 		     {"[votes]\nrotation_modes = 0\n", "votes.rotation_modes"},
 		     {"[refinement]\npsi1 = 1.1\npsi2 = 1.0\n", "refinement.psi1/psi2"}}) {

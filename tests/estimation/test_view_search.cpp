@@ -232,6 +232,39 @@ TEST_F(ViewSearchTest, ProposalsAreDistinctAndBestFirst)
 	}
 }
 
+// The coarse pass only chooses what the full score sees: keeping every
+// rotation gives exactly the one-pass answer; the default keeps 1024 of 7680
+// and still finds the rotation.
+TEST_F(ViewSearchTest, CoarseToFineKeepingEverythingEqualsOnePass)
+{
+	std::mt19937_64 rng(19);
+	const Pose truth = randomPose(rng);
+	const std::vector<float> depth = render(truth);
+	ImageView<const float> view(depth.data(), K_.width, K_.height, K_.width);
+	ViewSearchConfig cfg;
+	cfg.inplane = 6; // 1920 rotations, all kept by the coarse pass
+	cfg.coarseKeep = kMaxCoarseKeep;
+	ViewProposal two[6], one[6];
+	const Eigen::Vector3d voted = truth.t + Eigen::Vector3d(5, 5, 20);
+	const size_t n2 = searchViews(templates(), cfg, view, K_, voted, two);
+	cfg.coarsePoints = 0;
+	const size_t n1 = searchViews(templates(), cfg, view, K_, voted, one);
+	ASSERT_EQ(n1, n2);
+	ASSERT_GT(n1, 0u);
+	for (size_t i = 0; i < n1; ++i) {
+		EXPECT_EQ(one[i].view, two[i].view);
+		EXPECT_EQ(one[i].turn, two[i].turn);
+		EXPECT_EQ(one[i].score, two[i].score);
+		EXPECT_TRUE(one[i].pose.t == two[i].pose.t);
+	}
+	// The default coarse pass agrees with one pass on the best rotation.
+	cfg = ViewSearchConfig{};
+	ASSERT_GT(searchViews(templates(), cfg, view, K_, voted, two), 0u);
+	cfg.coarsePoints = 0;
+	ASSERT_GT(searchViews(templates(), cfg, view, K_, voted, one), 0u);
+	EXPECT_LT(rotationAngle(one[0].pose.R, two[0].pose.R) * 180.0 / M_PI, 1e-3);
+}
+
 TEST_F(ViewSearchTest, OffWithoutTurnsOrTemplates)
 {
 	ViewSearchConfig cfg;
