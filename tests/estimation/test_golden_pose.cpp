@@ -5,9 +5,11 @@
 // boxes of a fixed depth frame (tests/data/golden_frame.png: two apes at
 // training views, off-axis, in front of a tilted wall; uint16 mm);
 // tests/data/golden_poses_amd64.txt holds what amd64 computed. On every
-// target (aarch64 and armhf under qemu included) the poses, scores and
-// counters must be bit-identical: the estimator is deterministic, the build
-// forbids FMA contraction (-ffp-contract=off), and every input is a file.
+// target the estimator is deterministic, the build forbids FMA contraction
+// (-ffp-contract=off) and every input is a file: on amd64 the poses, scores
+// and counters must be bit-identical to the file; on aarch64 and armhf
+// (under qemu) the same to within 0.1 deg and 0.1 mm (see the comparison
+// for why not bit for bit).
 // Also checked: the poses are right (near the rendered ones), so the run
 // goes through the whole frame path (crop, IBS fit, parts, HoCP, forest
 // walk, modes, refinement, scoring, ICP) rather than an early exit.
@@ -45,6 +47,12 @@ namespace {
 namespace fs = std::filesystem;
 
 const CameraIntrinsics &kK = test::kKinect;
+
+#if !defined(__x86_64__)
+// How far a pose on another target may be from the amd64 one.
+constexpr double kTargetToleranceDeg = 0.1;
+constexpr double kTargetToleranceMm = 0.1;
+#endif
 
 fs::path dataDir() { return test::sourceDir() / "tests" / "data"; }
 fs::path forestFile() { return dataDir() / "golden_forest_amd64.ihf"; }
@@ -271,13 +279,35 @@ TEST(GoldenPose, Amd64ForestAndFrameGiveTheAmd64Poses)
 	for (size_t i = 0; i < golden.size(); ++i) {
 		const GoldenBox &w = golden[i];
 		const GoldenBox &g = got[i];
-		// Exact: any difference in the arithmetic shows up here. The
-		// angle and distance only make a failure readable.
 		const double c = ((g.pose.R.transpose() * w.pose.R).trace() - 1.0) / 2.0;
 		const double deg = std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI;
 		const double mm = (g.pose.t - w.pose.t).norm();
-		EXPECT_EQ(formatBox(g), formatBox(w))
-			<< "box " << i << ": off by " << deg << " deg, " << mm << " mm";
+		const std::string diff = "box " + std::to_string(i) + ": off by " + std::to_string(deg) +
+					 " deg, " + std::to_string(mm) + " mm\n  got    " + formatBox(g) +
+					 "\n  golden " + formatBox(w);
+#if defined(__x86_64__)
+		// Exact where the file was written: any change in the arithmetic
+		// shows up here.
+		EXPECT_EQ(formatBox(g), formatBox(w)) << diff;
+#else
+		// Elsewhere the same forest and frame must give the same pose to
+		// far below the sensor's resolution, but not the same bits: Eigen's
+		// vectorised reductions add in another order on NEON (and scalar
+		// armhf) than on SSE, and armhf's glibc rounds acos/atan2/sincos
+		// differently, so sums and angles part in the last bits and the
+		// refinement carries that on (measured: aarch64 0.026 deg, armhf
+		// see BENCHMARKS.md, Edge targets). A wrong byte order or a misread
+		// forest gives no pose or one that is millimetres off.
+		EXPECT_EQ(g.found, w.found) << diff;
+		EXPECT_LT(deg, kTargetToleranceDeg) << diff;
+		EXPECT_LT(mm, kTargetToleranceMm) << diff;
+		EXPECT_NEAR(g.score, w.score, 1e-3f) << diff;
+		EXPECT_NEAR(g.votes, w.votes, 0.02 * w.votes + 1) << diff;
+		EXPECT_EQ(g.parts, w.parts) << diff;
+		// Said in the log, so a run shows how close this target came.
+		std::printf("golden box %zu: %s (%.3g deg, %.3g mm)\n", i,
+			    formatBox(g) == formatBox(w) ? "bit-identical" : "within tolerance", deg, mm);
+#endif
 	}
 }
 
