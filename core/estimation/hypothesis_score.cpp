@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/geometry/fixed_order.h"
+
 namespace ihf {
 
 HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const float> rendered,
@@ -53,7 +55,7 @@ float boxAgreement(const Mesh &mesh, const Pose &pose, const CameraIntrinsics &w
 	const Eigen::Vector3f t = pose.t.cast<float>();
 	float u0 = std::numeric_limits<float>::max(), v0 = u0, u1 = -u0, v1 = -u0;
 	for (size_t i = 0; i < mesh.vertices.size(); i += stride) {
-		Eigen::Vector3f x = R * mesh.vertices[i] + t;
+		const Eigen::Vector3f x = transformFixedOrder(R, mesh.vertices[i], t);
 		if (!(x.z() > 1.0f))
 			return 0.0f; // behind the camera: not a pose for this box
 		float u = static_cast<float>(window.fx) * x.x() / x.z() + static_cast<float>(window.cx);

@@ -7,6 +7,8 @@
 
 #include <Eigen/Geometry>
 
+#include "core/geometry/fixed_order.h"
+
 namespace ihf {
 
 namespace {
@@ -96,12 +98,14 @@ Expected<int> cloudFromDepth(ImageView<const float> depth, const CameraIntrinsic
 			Eigen::Vector3f tu, tv;
 			if (bp.tangent(u, v, z, 1, 0, cfg.normalStep, tu) &&
 			    bp.tangent(u, v, z, 0, 1, cfg.normalStep, tv)) {
-				Eigen::Vector3f n = tu.cross(tv);
-				const float len = n.norm();
+				// In a fixed order: ICP's result depends on the last
+				// bits of the normals (fixed_order.h).
+				Eigen::Vector3f n = crossFixedOrder(tu, tv);
+				const float len = std::sqrt(dotFixedOrder(n, n));
 				if (len > 0.0f) {
-					n /= len;
+					n = Eigen::Vector3f(n[0] / len, n[1] / len, n[2] / len);
 					// Towards the camera: the camera sits at the origin.
-					cp.n = n.dot(cp.p) > 0.0f ? -n : n;
+					cp.n = dotFixedOrder(n, cp.p) > 0.0f ? -n : n;
 				}
 			}
 		}

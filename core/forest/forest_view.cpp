@@ -19,8 +19,13 @@ Vote PackedVote::unpack() const
 {
 	Vote v;
 	v.offset = Eigen::Vector3f(offset[0], offset[1], offset[2]);
-	v.rotation = Eigen::Quaternionf(rotation[3], rotation[0], rotation[1], rotation[2]);
-	v.rotation.normalize();
+	// Normalised with the sum in a fixed order: Eigen's 4-float reduction
+	// adds in another order with SIMD (amd64, aarch64) than without (armhf),
+	// and the votes must be the same bits on every target.
+	const float x = rotation[0], y = rotation[1], z = rotation[2], w = rotation[3];
+	const float norm = std::sqrt(((x * x + y * y) + z * z) + w * w);
+	v.rotation = norm > 0.0f ? Eigen::Quaternionf(w / norm, x / norm, y / norm, z / norm)
+				 : Eigen::Quaternionf::Identity();
 	return v;
 }
 

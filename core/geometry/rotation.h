@@ -12,10 +12,17 @@
 
 namespace ihf {
 
+// <q1, q2> summed x, y, z, w in that order (Eigen's 4-float dot adds in
+// another order with SIMD than without, e.g. on armhf).
+inline float quatDot(const Eigen::Quaternionf &a, const Eigen::Quaternionf &b)
+{
+	return ((a.x() * b.x() + a.y() * b.y()) + a.z() * b.z()) + a.w() * b.w();
+}
+
 // Quaternions q and -q are the same rotation: similarity is |<q1, q2>|.
 inline float quatSimilarity(const Eigen::Quaternionf &a, const Eigen::Quaternionf &b)
 {
-	return std::abs(a.coeffs().dot(b.coeffs()));
+	return std::abs(quatDot(a, b));
 }
 
 // Geodesic angle (radians) between two rotations given as unit quaternions.

@@ -27,14 +27,77 @@ inline float squaredDistance(const Eigen::Vector3f &a, const Eigen::Vector3f &b)
 }
 constexpr int kMaxRotationSeeds = 32;
 
+// m += w q q^T (q's coeffs x, y, z, w), element by element: the same bits
+// with and without SIMD.
+void addOuter(Eigen::Matrix4f &m, float w, const Eigen::Quaternionf &q)
+{
+	const float c[4] = {q.x(), q.y(), q.z(), q.w()};
+	for (int j = 0; j < 4; ++j)
+		for (int i = 0; i < 4; ++i)
+			m(i, j) += (w * c[i]) * c[j];
+}
+
+// Eigenvector of the largest eigenvalue of a symmetric 4x4 matrix, by
+// cyclic Jacobi rotations in double, written out in scalar code: Eigen's
+// SelfAdjointEigenSolver runs vectorised on SSE and NEON but scalar on
+// armhf, and its last bits then differ, so the rotation modes would differ
+// between targets. Only +, -, *, / and sqrt (all correctly rounded), in one
+// order: the same bits everywhere.
 Eigen::Quaternionf principalQuaternion(const Eigen::Matrix4f &m)
 {
-	Eigen::SelfAdjointEigenSolver<Eigen::Matrix4f> es(m);
-	Eigen::Vector4f v = es.eigenvectors().col(3); // largest eigenvalue last
-	Eigen::Quaternionf q;
-	q.coeffs() = v;
-	q.normalize();
-	return q;
+	double a[4][4], v[4][4];
+	double scale = 0;
+	for (int i = 0; i < 4; ++i)
+		for (int j = 0; j < 4; ++j) {
+			a[i][j] = 0.5 * (static_cast<double>(m(i, j)) + static_cast<double>(m(j, i)));
+			v[i][j] = i == j ? 1.0 : 0.0;
+			scale += a[i][j] * a[i][j];
+		}
+	for (int sweep = 0; sweep < 16; ++sweep) {
+		double off = 0;
+		for (int p = 0; p < 4; ++p)
+			for (int q = p + 1; q < 4; ++q)
+				off += a[p][q] * a[p][q];
+		if (!(off > 1e-28 * scale))
+			break;
+		for (int p = 0; p < 4; ++p)
+			for (int q = p + 1; q < 4; ++q) {
+				if (a[p][q] == 0.0)
+					continue;
+				// The rotation in the (p, q) plane that zeroes a[p][q].
+				const double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+				const double t = std::abs(theta) > 1e150
+					? 0.5 / theta
+					: (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+				const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+				for (int k = 0; k < 4; ++k) {
+					const double akp = a[k][p], akq = a[k][q];
+					a[k][p] = c * akp - s * akq;
+					a[k][q] = s * akp + c * akq;
+				}
+				for (int k = 0; k < 4; ++k) {
+					const double apk = a[p][k], aqk = a[q][k];
+					a[p][k] = c * apk - s * aqk;
+					a[q][k] = s * apk + c * aqk;
+				}
+				for (int k = 0; k < 4; ++k) {
+					const double vkp = v[k][p], vkq = v[k][q];
+					v[k][p] = c * vkp - s * vkq;
+					v[k][q] = s * vkp + c * vkq;
+				}
+			}
+	}
+	int best = 0;
+	for (int i = 1; i < 4; ++i)
+		if (a[i][i] > a[best][best])
+			best = i;
+	// m's index order is the quaternion's coeffs(): x, y, z, w.
+	const double x = v[0][best], y = v[1][best], z = v[2][best], w = v[3][best];
+	const double norm = std::sqrt(((x * x + y * y) + z * z) + w * w);
+	if (!(norm > 0))
+		return Eigen::Quaternionf::Identity();
+	return Eigen::Quaternionf(static_cast<float>(w / norm), static_cast<float>(x / norm),
+				  static_cast<float>(y / norm), static_cast<float>(z / norm));
 }
 
 // Votes binned on a grid of cutoff-sized cells, as a list of vote indices
@@ -129,7 +192,7 @@ Eigen::Quaternionf averageQuaternion(std::span<const Eigen::Quaternionf> qs,
 	Eigen::Matrix4f m = Eigen::Matrix4f::Zero();
 	for (size_t i = 0; i < qs.size(); ++i) {
 		float w = weights.empty() ? 1.0f : weights[i];
-		m.noalias() += w * qs[i].coeffs() * qs[i].coeffs().transpose();
+		addOuter(m, w, qs[i]);
 	}
 	return principalQuaternion(m);
 }
@@ -254,7 +317,7 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 		for (size_t k = 0; k < ns; ++k) {
 			const Eigen::Quaternionf &q = votes[sup[k]].rotation;
 			int c = 0;
-			while (c < nClusters && std::abs(q.dot(clusterQ[c])) < cosCluster)
+			while (c < nClusters && quatSimilarity(q, clusterQ[c]) < cosCluster)
 				++c;
 			if (c < nClusters) {
 				clusterW[c] += w[sup[k]];
@@ -281,12 +344,12 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 				for (size_t k = 0; k < ns; ++k) {
 					const CastVote &v = votes[sup[k]];
 					// Beyond three bandwidths the kernel is < 1.2e-2.
-					if (std::abs(q.dot(v.rotation)) < cosCutoff)
+					if (quatSimilarity(q, v.rotation) < cosCutoff)
 						continue;
 					float a = quatAngle(q, v.rotation);
 					float kk = w[sup[k]] * std::exp(-a * a * invR);
 					density += kk;
-					acc.noalias() += kk * v.rotation.coeffs() * v.rotation.coeffs().transpose();
+					addOuter(acc, kk, v.rotation);
 				}
 				Eigen::Quaternionf nq = principalQuaternion(acc);
 				bool done = quatAngle(nq, q) < 1e-3f;
