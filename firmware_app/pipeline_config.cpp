@@ -306,6 +306,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	score.get("box_weight", e.score.boxWeight);
 	score.get("box_min_fill", e.score.boxMinFill);
 	score.get("box_margin", e.score.boxMargin);
+	score.get("residual_weight", e.score.residualWeight);
 	IHF_SECTION(score);
 
 	TableReader icp(root["icp"].as_table(), file, "icp");
@@ -368,6 +369,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.rotationModes >= 1 && e.rotationModes <= 16, "votes.rotation_modes"),
 			  inRange(e.score.outlierWeight >= 0, "score.outlier_weight"),
 			  inRange(e.score.occludedWeight >= 0, "score.occluded_weight"),
+			  inRange(e.score.residualWeight >= 0 && e.score.residualWeight <= 1, "score.residual_weight"),
 			  inRange(e.icpCandidates >= 0, "icp.candidates"),
 			  inRange(e.search.levels >= 0, "search.levels"),
 			  inRange(e.search.rotationStepDeg > 0, "search.rotation_step_deg"),

@@ -11,7 +11,9 @@
 #                 more than 0.3 d away, typically on an occluder in front).
 # With --replay it re-scores the traced counts with other score weights and
 # counts the boxes where the truth would beat every wrong candidate: the
-# ceiling of that score if the search were perfect.
+# ceiling of that score if the search were perfect. It replays counts only:
+# with [score] residual_weight > 0 each inlier was weighted by its residual,
+# which the trace does not hold, so replayed scores are the unweighted rule.
 # "Near" is within 0.1 d and 15 deg, a stand-in for ADD that needs no mesh.
 import argparse, itertools, json, math, sys
 

@@ -14,6 +14,7 @@ HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const
 {
 	HypothesisScore s;
 	float lo = std::numeric_limits<float>::max(), hi = 0;
+	float fit = 0; // inliers, each weighted by its residual
 	for (int y = 0; y < rendered.height; ++y) {
 		const float *r = rendered.row(y);
 		const float *o = observed.row(y);
@@ -27,9 +28,11 @@ HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const
 				continue;
 			s.compared++;
 			float e = o[x] - r[x];
-			if (std::abs(e) <= config.inlierMm)
+			if (std::abs(e) <= config.inlierMm) {
 				s.inliers++;
-			else if (e > 0)
+				const float q = e / config.inlierMm;
+				fit += 1.0f - config.residualWeight * (q * q);
+			} else if (e > 0)
 				s.outliers++;
 			else
 				s.occluded++;
@@ -40,7 +43,7 @@ HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const
 		s.depthMax = hi;
 	}
 	float denom = s.inliers + config.outlierWeight * s.outliers + config.occludedWeight * s.occluded;
-	s.depthScore = denom > 0 ? s.inliers / denom : 0.0f;
+	s.depthScore = denom > 0 ? fit / denom : 0.0f;
 	s.score = s.depthScore;
 	return s;
 }

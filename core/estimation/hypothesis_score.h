@@ -36,6 +36,12 @@ struct ScoreConfig {
 	float boxWeight = 1.0f;
 	float boxMinFill = 0.5f;
 	float boxMargin = 0.1f; // overhang tolerated, share of the box size
+	// An inlier counts 1 - residualWeight (e / inlierMm)^2 instead of 1, so
+	// a pose whose surface fits to the sensor's noise beats one whose
+	// inliers merely fall inside the band (a wrong rotation of a rounded
+	// object). 0: every inlier counts 1 (until session 7). Syn200 mean F1
+	// +0.01 to +0.07 per object with 1 (BENCHMARKS.md).
+	float residualWeight = 1.0f;
 };
 
 // Sides of the given box that lie on the frame border. A detector clips its

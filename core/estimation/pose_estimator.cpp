@@ -306,6 +306,7 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	ViewSearchConfig vc = config.views;
 	vc.outlierWeight = config.score.outlierWeight;
 	vc.occludedWeight = config.score.occludedWeight;
+	vc.residualWeight = config.score.residualWeight;
 	ViewProposal top[kMaxKeep];
 	const size_t keepN = static_cast<size_t>(std::clamp(config.views.keep, 1, kMaxKeep));
 	const float same = static_cast<float>(0.05 * diameter);

@@ -26,6 +26,7 @@ struct TurnedView {
 
 struct Tally {
 	int in = 0, out = 0, occ = 0, outside = 0, residuals = 0;
+	float fit = 0; // inliers weighted by residual (the score's rule)
 };
 
 class SparseScorer
@@ -63,9 +64,11 @@ public:
 			const float e = o - z;
 			if (res && std::abs(e) < cfg_.maxShiftMm)
 				res[k.residuals++] = e;
-			if (std::abs(e) <= cfg_.inlierMm)
+			if (std::abs(e) <= cfg_.inlierMm) {
 				++k.in;
-			else if (e > 0)
+				const float q = e / cfg_.inlierMm;
+				k.fit += 1.0f - cfg_.residualWeight * (q * q);
+			} else if (e > 0)
 				++k.out;
 			else
 				++k.occ;
@@ -121,7 +124,7 @@ public:
 		if (compared * 4 < n)
 			return 0.0f;
 		const float denom = k.in + cfg_.outlierWeight * k.out + cfg_.occludedWeight * k.occ;
-		const float depth = denom > 0 ? k.in / denom : 0.0f;
+		const float depth = denom > 0 ? k.fit / denom : 0.0f;
 		return depth * static_cast<float>(n - k.outside) / static_cast<float>(n);
 	}
 

@@ -35,6 +35,7 @@ struct ViewSearchConfig {
 	float maxShiftMm = 40.0f; // depth alignment range (0: no alignment)
 	float outlierWeight = 3.0f;
 	float occludedWeight = 0.2f;
+	float residualWeight = 0.0f; // the score's inlier weighting by residual
 	float distinctDeg = 20.0f; // proposals closer than this in rotation are one
 	// Each rotation is also tried at the translation that centres its
 	// projected points on the optical axis, which passes through the given

@@ -137,6 +137,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.bank.viewpoints, b.bank.viewpoints);
 	EXPECT_EQ(a.score.outlierWeight, b.score.outlierWeight);
 	EXPECT_EQ(a.score.occludedWeight, b.score.occludedWeight);
+	EXPECT_EQ(a.score.residualWeight, b.score.residualWeight);
 	EXPECT_EQ(a.views.inplane, b.views.inplane);
 	EXPECT_EQ(a.views.centres, b.views.centres);
 	EXPECT_EQ(a.views.keep, b.views.keep);
@@ -156,6 +157,7 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\npoints = 1000\n", "view_search.points"},
 		     {"[view_search]\ncoarse_keep = 5000\n", "view_search.coarse_keep"},
 		     {"[search]\nlevels = -1\n", "search.levels"},
+		     {"[score]\nresidual_weight = 1.5\n", "score.residual_weight"},
 		     {"[votes]\nrotation_modes = 0\n", "votes.rotation_modes"},
 		     {"[refinement]\npsi1 = 1.1\npsi2 = 1.0\n", "refinement.psi1/psi2"}}) {
 		std::ofstream(dir / "e.toml") << text;

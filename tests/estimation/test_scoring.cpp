@@ -112,6 +112,7 @@ TEST(HypothesisScore, CountsInliersOutliersAndOcclusion)
 	ScoreConfig cfg;
 	cfg.outlierWeight = 3.0f;
 	cfg.occludedWeight = 0.25f;
+	cfg.residualWeight = 0.0f; // each inlier counts 1 (weighted: ResidualWeight... below)
 	HypothesisScore s = scoreHypothesis(o, r, cfg);
 	EXPECT_EQ(s.rendered, 4);
 	EXPECT_EQ(s.compared, 3);
@@ -121,6 +122,27 @@ TEST(HypothesisScore, CountsInliersOutliersAndOcclusion)
 	EXPECT_FLOAT_EQ(s.depthScore, 1.0f / 4.25f);
 	EXPECT_FLOAT_EQ(s.depthMin, 800.0f);
 	EXPECT_FLOAT_EQ(s.depthMax, 810.0f);
+}
+
+TEST(HypothesisScore, ResidualWeightPrefersTheTighterFit)
+{
+	// Two poses with the same inliers: one fits to 1 mm, the other's
+	// inliers sit 8 mm off, inside the 10 mm band.
+	std::vector<float> obs(4, 800.0f), tight(4, 801.0f), loose(4, 808.0f);
+	ImageView<float> o(obs.data(), 4, 1, 4), rt(tight.data(), 4, 1, 4), rl(loose.data(), 4, 1, 4);
+	ScoreConfig cfg;
+	cfg.inlierMm = 10.0f;
+	cfg.residualWeight = 0.0f;
+	EXPECT_FLOAT_EQ(scoreHypothesis(o, rt, cfg).depthScore, 1.0f);
+	EXPECT_FLOAT_EQ(scoreHypothesis(o, rl, cfg).depthScore, 1.0f); // a tie without the weight
+	cfg.residualWeight = 1.0f;
+	const HypothesisScore t = scoreHypothesis(o, rt, cfg), l = scoreHypothesis(o, rl, cfg);
+	EXPECT_EQ(t.inliers, 4);
+	EXPECT_EQ(l.inliers, 4);
+	EXPECT_FLOAT_EQ(t.depthScore, 1.0f - 0.01f);
+	EXPECT_FLOAT_EQ(l.depthScore, 1.0f - 0.64f);
+	cfg.residualWeight = 0.5f;
+	EXPECT_FLOAT_EQ(scoreHypothesis(o, rl, cfg).depthScore, 1.0f - 0.32f);
 }
 
 } // namespace

@@ -4,7 +4,9 @@
 // by 20 mm in depth the search finds the rotation of a clean render, and of
 // one half hidden behind an occluder; it is off without turns or templates.
 
+#include <cstdio>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -263,6 +265,41 @@ TEST_F(ViewSearchTest, CoarseToFineKeepingEverythingEqualsOnePass)
 	cfg.coarsePoints = 0;
 	ASSERT_GT(searchViews(templates(), cfg, view, K_, voted, one), 0u);
 	EXPECT_LT(rotationAngle(one[0].pose.R, two[0].pose.R) * 180.0 / M_PI, 1e-3);
+}
+
+// Weighting inliers by their residual (the score's residualWeight) keeps
+// finding the rotation of a clean render and separates it further from the
+// best distinct wrong rotation, whose points only fall inside the band.
+TEST_F(ViewSearchTest, ResidualWeightSeparatesTheTrueRotationFurther)
+{
+	std::mt19937_64 rng(23);
+	ViewSearchConfig plain;
+	plain.keep = 2;
+	ViewSearchConfig weighted = plain;
+	weighted.residualWeight = 1.0f;
+	const int trials = 10;
+	int found = 0;
+	double marginPlain = 0, marginWeighted = 0;
+	for (int i = 0; i < trials; ++i) {
+		const Pose truth = randomPose(rng);
+		const std::vector<float> depth = render(truth);
+		ImageView<const float> view(depth.data(), K_.width, K_.height, K_.width);
+		ViewProposal a[2], b[2];
+		const Eigen::Vector3d voted = truth.t + Eigen::Vector3d(0, 0, 15);
+		ASSERT_EQ(searchViews(templates(), plain, view, K_, voted, a, BoxAxes{false, false}), 2u);
+		ASSERT_EQ(searchViews(templates(), weighted, view, K_, voted, b, BoxAxes{false, false}), 2u);
+		found += rotationAngle(b[0].pose.R, truth.R) * 180.0 / M_PI < 20;
+		// A weight only lowers a score.
+		EXPECT_LE(b[0].score, a[0].score + 1e-6f);
+		marginPlain += (a[0].score - a[1].score) / a[0].score;
+		marginWeighted += (b[0].score - b[1].score) / b[0].score;
+	}
+	RecordProperty("margin_plain", std::to_string(marginPlain / trials));
+	RecordProperty("margin_weighted", std::to_string(marginWeighted / trials));
+	EXPECT_GE(found, trials * 3 / 4);
+	EXPECT_GT(marginWeighted, marginPlain);
+	std::printf("mean relative margin of the best over the next distinct rotation: %.4f plain, %.4f weighted\n",
+		    marginPlain / trials, marginWeighted / trials);
 }
 
 TEST_F(ViewSearchTest, OffWithoutTurnsOrTemplates)
