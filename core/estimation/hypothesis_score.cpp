@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/geometry/fixed_order.h"
+#include "core/pose/depth_agreement.h"
 
 namespace ihf {
 
@@ -30,8 +31,7 @@ HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const
 			float e = o[x] - r[x];
 			if (std::abs(e) <= config.inlierMm) {
 				s.inliers++;
-				const float q = e / config.inlierMm;
-				fit += 1.0f - config.residualWeight * (q * q);
+				fit += inlierFit(e, config.inlierMm, config.residualWeight);
 			} else if (e > 0)
 				s.outliers++;
 			else
@@ -42,8 +42,8 @@ HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const
 		s.depthMin = lo;
 		s.depthMax = hi;
 	}
-	float denom = s.inliers + config.outlierWeight * s.outliers + config.occludedWeight * s.occluded;
-	s.depthScore = denom > 0 ? fit / denom : 0.0f;
+	s.depthScore = depthAgreement(fit, s.inliers, s.outliers, s.occluded, config.outlierWeight,
+				      config.occludedWeight);
 	s.score = s.depthScore;
 	return s;
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/geometry/rotation.h"
+#include "core/pose/depth_agreement.h"
 
 namespace ihf {
 
@@ -66,8 +67,7 @@ public:
 				res[k.residuals++] = e;
 			if (std::abs(e) <= cfg_.inlierMm) {
 				++k.in;
-				const float q = e / cfg_.inlierMm;
-				k.fit += 1.0f - cfg_.residualWeight * (q * q);
+				k.fit += inlierFit(e, cfg_.inlierMm, cfg_.residualWeight);
 			} else if (e > 0)
 				++k.out;
 			else
@@ -123,8 +123,8 @@ public:
 		const int compared = k.in + k.out + k.occ;
 		if (compared * 4 < n)
 			return 0.0f;
-		const float denom = k.in + cfg_.outlierWeight * k.out + cfg_.occludedWeight * k.occ;
-		const float depth = denom > 0 ? k.fit / denom : 0.0f;
+		const float depth =
+			depthAgreement(k.fit, k.in, k.out, k.occ, cfg_.outlierWeight, cfg_.occludedWeight);
 		return depth * static_cast<float>(n - k.outside) / static_cast<float>(n);
 	}
 

@@ -112,7 +112,7 @@ TEST(HypothesisScore, CountsInliersOutliersAndOcclusion)
 	ScoreConfig cfg;
 	cfg.outlierWeight = 3.0f;
 	cfg.occludedWeight = 0.25f;
-	cfg.residualWeight = 0.0f; // each inlier counts 1 (weighted: ResidualWeight... below)
+	cfg.residualWeight = 0.0f; // each inlier counts 1 (the weighting: ResidualWeightPrefersTheTighterFit)
 	HypothesisScore s = scoreHypothesis(o, r, cfg);
 	EXPECT_EQ(s.rendered, 4);
 	EXPECT_EQ(s.compared, 3);
