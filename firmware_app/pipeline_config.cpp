@@ -331,6 +331,10 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	TableReader views(root["view_search"].as_table(), file, "view_search");
 	views.get("inplane", e.views.inplane);
 	views.get("centres", e.views.centres);
+	views.get("depth_centres", e.views.depthCentres);
+	views.get("lateral_step_mm", e.views.lateralStepMm);
+	views.get("anchor_share", e.views.anchorShare);
+	views.get("refine_top", e.views.refineTop);
 	views.get("keep", e.views.keep);
 	views.get("inlier_mm", e.views.inlierMm);
 	views.get("max_shift_mm", e.views.maxShiftMm);
@@ -381,6 +385,10 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.bank.keep >= 1 && e.bank.keep <= 8, "search.bank_keep"),
 			  inRange(e.views.inplane >= 0 && e.views.inplane <= 360, "view_search.inplane"),
 			  inRange(e.views.centres >= 1 && e.views.centres <= 4, "view_search.centres"),
+			  inRange(e.views.depthCentres >= 0 && e.views.depthCentres <= 4, "view_search.depth_centres"),
+			  inRange(e.views.lateralStepMm >= 0, "view_search.lateral_step_mm"),
+			  inRange(e.views.anchorShare > 0 && e.views.anchorShare <= 1, "view_search.anchor_share"),
+			  inRange(e.views.refineTop >= 1 && e.views.refineTop <= kMaxRefineTop, "view_search.refine_top"),
 			  inRange(e.views.keep >= 1 && e.views.keep <= 16, "view_search.keep"),
 			  inRange(e.views.inlierMm > 0, "view_search.inlier_mm"),
 			  inRange(e.views.maxShiftMm >= 0, "view_search.max_shift_mm"),

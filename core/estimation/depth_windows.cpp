@@ -62,4 +62,49 @@ size_t findDepthWindows(ImageView<const float> depth, float widthMm, std::span<i
 	return found;
 }
 
+namespace {
+
+// Median of the window's pixels inside [x0, x1) x [y0, y1); count gets how
+// many there were.
+float medianIn(ImageView<const float> depth, const DepthWindow &window, int x0, int y0, int x1, int y1,
+	       int &count)
+{
+	constexpr int kBins = 64;
+	const float width = window.farMm - window.nearMm;
+	int hist[kBins] = {};
+	count = 0;
+	for (int y = y0; y < y1; ++y) {
+		const float *r = depth.row(y);
+		for (int x = x0; x < x1; ++x)
+			if (r[x] >= window.nearMm && r[x] < window.farMm) {
+				hist[std::min(kBins - 1, static_cast<int>((r[x] - window.nearMm) / width * kBins))]++;
+				++count;
+			}
+	}
+	int seen = 0;
+	for (int b = 0; b < kBins; ++b) {
+		seen += hist[b];
+		if (2 * seen >= count && count > 0)
+			return window.nearMm + (static_cast<float>(b) + 0.5f) * width / kBins;
+	}
+	return 0;
+}
+
+} // namespace
+
+float windowMedianDepth(ImageView<const float> depth, const DepthWindow &window, float share, int minPixels)
+{
+	if (!(window.farMm - window.nearMm > 0))
+		return 0;
+	int count = 0;
+	if (share > 0 && share < 1) {
+		const int mx = static_cast<int>(std::lround(0.5f * (1 - share) * depth.width));
+		const int my = static_cast<int>(std::lround(0.5f * (1 - share) * depth.height));
+		const float m = medianIn(depth, window, mx, my, depth.width - mx, depth.height - my, count);
+		if (count >= minPixels)
+			return m;
+	}
+	return medianIn(depth, window, 0, 0, depth.width, depth.height, count);
+}
+
 } // namespace ihf

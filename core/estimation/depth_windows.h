@@ -30,4 +30,11 @@ struct DepthWindow {
 size_t findDepthWindows(ImageView<const float> depth, float widthMm, std::span<int> hist,
 			std::span<DepthWindow> out);
 
+// Median depth of the pixels inside the window, to 1/64 of its thickness (0
+// when it holds none). Only the central `share` of the image's width and
+// height counts while it holds at least minPixels of the window's: the
+// middle of a box is the object's, its rim the table's or the wall's.
+float windowMedianDepth(ImageView<const float> depth, const DepthWindow &window, float share = 1.0f,
+			int minPixels = 32);
+
 } // namespace ihf

@@ -330,6 +330,30 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 		}
 		costs_.observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
 	}
+	// Centres from the box and the depth alone: on the box's ray (the
+	// virtual crop's optical axis) at each dense slab's median depth.
+	const size_t nd = std::min(windowCount_, static_cast<size_t>(std::max(0, config.views.depthCentres)));
+	for (size_t w = 0; w < nd; ++w) {
+		if (!boxFits(costs_.average(Stage::kViews)))
+			return;
+		const float anchor = windowMedianDepth(observedView_, windows_[w], config.views.anchorShare);
+		if (!(anchor > 0))
+			continue;
+		const int64_t start = timer_.last();
+		const BoxAxes axes{!openSides_.left && !openSides_.right, !openSides_.top && !openSides_.bottom};
+		const size_t n = searchViews(model.viewTemplates(), vc, observedView_, K, Eigen::Vector3d::Zero(),
+					     std::span<ViewProposal>(top, keepN), axes, anchor);
+		for (size_t j = 0; j < n; ++j) {
+			Hypothesis h;
+			h.pose = top[j].pose;
+			h.score = score(h.pose, K, model, config);
+			h.iteration = config.iterations + 1;
+			h.valid = true;
+			report(h.iteration, "view_depth", static_cast<int>(j), h.pose, h.score, top[j].score);
+			keep(h, same);
+		}
+		costs_.observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
+	}
 }
 
 int PoseEstimator::buildCloud(ImageView<const float> depth, const CameraIntrinsics &K,
@@ -595,13 +619,15 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	const size_t modeSlots = std::min(modes_.size(),
 					  static_cast<size_t>(std::max(1, config.maxHypotheses)) *
 						  static_cast<size_t>(modeCfg.rotationModesPerCentre));
-	size_t windows = 0;
-	if (config.depthWindows > 0)
-		windows = findDepthWindows(observedView_,
-					   static_cast<float>(config.depthWindowWidth * params.diameter),
-					   windowHist_,
-					   windows_.first(std::min(windows_.size(),
-								   static_cast<size_t>(config.depthWindows))));
+	// The view search's depth centres use the windows too (at least as many
+	// as it asks for), whether or not the registration votes per window.
+	const size_t windowsWanted = static_cast<size_t>(std::max(config.depthWindows, config.views.depthCentres));
+	windowCount_ = 0;
+	if (windowsWanted > 0)
+		windowCount_ = findDepthWindows(observedView_,
+						static_cast<float>(config.depthWindowWidth * params.diameter),
+						windowHist_, windows_.first(std::min(windows_.size(), windowsWanted)));
+	const size_t windows = std::min(windowCount_, static_cast<size_t>(std::max(0, config.depthWindows)));
 	UnitCubeFrame cube;
 	bool haveFrame = false;
 	for (int k = 0; k <= config.iterations; ++k) {

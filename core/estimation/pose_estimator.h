@@ -278,6 +278,7 @@ private:
 	std::span<PoseMode> modes_;
 	std::span<int> windowHist_;
 	std::span<DepthWindow> windows_;
+	size_t windowCount_ = 0; // of the current box
 	std::span<Hypothesis> kept_; // best distinct hypotheses, by score
 	size_t keptCount_ = 0;
 	Eigen::Matrix3d cropRotation_ = Eigen::Matrix3d::Identity();

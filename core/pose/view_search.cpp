@@ -179,16 +179,18 @@ bool betterCandidate(const CoarseCandidate &a, const CoarseCandidate &b)
 
 size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &config,
 		   ImageView<const float> observed, const CameraIntrinsics &K,
-		   const Eigen::Vector3d &centre, std::span<ViewProposal> out, BoxAxes box)
+		   const Eigen::Vector3d &centre, std::span<ViewProposal> out, BoxAxes box,
+		   float anchorDepth)
 {
 	const int total = viewSearchSize(templates, config);
-	if (total == 0 || out.empty() || !(centre.z() > 1.0))
+	if (total == 0 || out.empty() || !(anchorDepth > 0 || centre.z() > 1.0))
 		return 0;
 	const int n = std::min(templates.pointsPerView, kMaxViewPoints);
 	std::array<Eigen::Vector3f, kMaxViewPoints> rotated;
 	std::array<float, kMaxViewPoints> res;
 	const SparseScorer scorer(config, observed, K);
-	const Eigen::Vector3f t0 = centre.cast<float>();
+	Eigen::Vector3f t0 = centre.cast<float>();
+	std::array<float, kMaxViewPoints> depths;
 	const double distinct = config.distinctDeg * M_PI / 180.0;
 	const bool centring = config.boxCentre && (box.x || box.y);
 
@@ -216,11 +218,26 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		int m = 0;
 		for (int i = 0; i < n; i += stride)
 			rotated[m++] = r0 * pts[i];
+		if (anchorDepth > 0 && m > 0) {
+			// In-plane turns keep every point's depth: one median per view.
+			for (int i = 0; i < m; ++i)
+				depths[i] = rotated[i].z();
+			std::nth_element(depths.begin(), depths.begin() + m / 2, depths.begin() + m);
+			t0.z() = anchorDepth - depths[m / 2];
+		}
 		return m;
 	};
+	// The last pass proposes into `wide` when the lateral climb is on, into
+	// `out` directly otherwise.
+	const bool climb = config.lateralStepMm > 0;
+	std::array<ViewProposal, kMaxRefineTop> wideStorage;
+	const std::span<ViewProposal> wide =
+		climb ? std::span<ViewProposal>(wideStorage.data(),
+						static_cast<size_t>(std::clamp(config.refineTop, 1, kMaxRefineTop)))
+		      : out;
 	size_t count = 0;
 	auto propose = [&](int v, int turn, float score, const Eigen::Vector3f &t) {
-		if (score <= 0 || (count == out.size() && score <= out[count - 1].score))
+		if (score <= 0 || (count == wide.size() && score <= wide[count - 1].score))
 			return;
 		ViewProposal p;
 		p.score = score;
@@ -228,7 +245,49 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		p.pose.t = t.cast<double>();
 		p.view = v;
 		p.turn = turn;
-		count = insertProposal(out, count, p, distinct);
+		count = insertProposal(wide, count, p, distinct);
+	};
+	// Sideways hill climb of one proposal's sparse score; depth re-aligned
+	// at every step.
+	auto climbSideways = [&](ViewProposal &p) {
+		const int m = rotateView(p.view, 1);
+		const double angle = 2.0 * M_PI * p.turn / config.inplane;
+		const TurnedView tv{rotated.data(), m, static_cast<float>(std::cos(angle)),
+				    static_cast<float>(std::sin(angle))};
+		Eigen::Vector3f t = p.pose.t.cast<float>();
+		float best = p.score;
+		for (float step = config.lateralStepMm; step > 0.2f * config.lateralStepMm; step *= 0.5f) {
+			for (int pass = 0; pass < 3; ++pass) {
+				Eigen::Vector3f bestT = t;
+				for (int d = 0; d < 4; ++d) {
+					Eigen::Vector3f c = t;
+					c[d / 2] += (d % 2 ? step : -step);
+					const float sc = scorer.score(scorer.aligned(tv, c, res.data()), m);
+					if (sc > best) {
+						best = sc;
+						bestT = c;
+					}
+				}
+				if (bestT == t)
+					break;
+				t = bestT;
+			}
+		}
+		p.score = best;
+		p.pose.t = t.cast<double>();
+	};
+	// The climbed proposals, best distinct first, into `out`.
+	auto finish = [&]() {
+		if (!climb)
+			return count;
+		for (size_t i = 0; i < count; ++i)
+			climbSideways(wide[i]);
+		std::sort(wide.begin(), wide.begin() + count,
+			  [](const ViewProposal &a, const ViewProposal &b) { return a.score > b.score; });
+		size_t n = 0;
+		for (size_t i = 0; i < count; ++i)
+			n = insertProposal(out, n, wide[i], distinct);
+		return n;
 	};
 
 	const int stride = config.coarsePoints > 0 ? std::max(1, n / config.coarsePoints) : 1;
@@ -242,7 +301,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 				propose(v, turn, score, t);
 			}
 		}
-		return count;
+		return finish();
 	}
 
 	// Coarse pass: a min-heap of the best `keep` rotations.
@@ -279,7 +338,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		const float score = evaluate(rotated.data(), m, heap[i].turn, t);
 		propose(heap[i].view, heap[i].turn, score, t);
 	}
-	return count;
+	return finish();
 }
 
 } // namespace ihf

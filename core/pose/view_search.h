@@ -26,13 +26,14 @@ namespace ihf {
 
 inline constexpr int kMaxViewPoints = 256;
 inline constexpr int kMaxCoarseKeep = 2048;
+inline constexpr int kMaxRefineTop = 64;
 
 struct ViewSearchConfig {
 	int inplane = 24;      // in-plane turns per viewpoint (15 deg); 0: search off
-	int centres = 2;       // distinct best translations searched
+	int centres = 1;       // distinct best voted translations searched
 	int keep = 6;          // proposals per translation
 	float inlierMm = 12.0f;
-	float maxShiftMm = 40.0f; // depth alignment range (0: no alignment)
+	float maxShiftMm = 80.0f; // depth alignment range (0: no alignment)
 	float outlierWeight = 3.0f;
 	float occludedWeight = 0.2f;
 	float residualWeight = 0.0f; // the score's inlier weighting by residual
@@ -47,6 +48,21 @@ struct ViewSearchConfig {
 	// scored on all of them. 0: one pass on all points.
 	int coarsePoints = 32;
 	int coarseKeep = 1024; // at most kMaxCoarseKeep
+	// Centres not from the votes: the densest depth slabs of the box (the
+	// initial registration's depth windows), each searched on the box's
+	// ray with every rotation's visible points put at the slab's median
+	// depth. The forest's translation votes miss some boxes entirely
+	// (BENCHMARKS.md); the box and the depth alone still place the object.
+	int depthCentres = 2;
+	float anchorShare = 0.5f; // of the box's width and height around its centre giving the median
+	// The given box is off by some percent, so the box-centred translation
+	// is off sideways by millimetres, enough for a wrong rotation to score
+	// above the true one. The refineTop best distinct rotations of the last
+	// pass therefore climb the sparse score sideways (steps of
+	// lateralStepMm, halved twice, depth re-aligned at each) before the
+	// `keep` best are chosen. 0: off.
+	float lateralStepMm = 4.0f;
+	int refineTop = 24; // at most kMaxRefineTop
 };
 
 // Which axes of the window (the given box) may centre a rotation: a side on
@@ -75,9 +91,12 @@ Eigen::Matrix3d viewRotation(const ViewTemplates &t, int inplane, int v, int tur
 // Every rotation at `centre` (camera coordinates of the model origin),
 // scored against `observed` (depth in mm, 0 = missing) through K; the best
 // distinct ones are written to `out` (at most out.size(), best first).
-// Returns how many.
+// Returns how many. With anchorDepth > 0 each rotation's depth is instead
+// chosen to put the median depth of its points at anchorDepth (mm), centre's
+// x and y kept.
 size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &config,
 		   ImageView<const float> observed, const CameraIntrinsics &K,
-		   const Eigen::Vector3d &centre, std::span<ViewProposal> out, BoxAxes box = {});
+		   const Eigen::Vector3d &centre, std::span<ViewProposal> out, BoxAxes box = {},
+		   float anchorDepth = 0.0f);
 
 } // namespace ihf

@@ -140,6 +140,12 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.score.residualWeight, b.score.residualWeight);
 	EXPECT_EQ(a.views.inplane, b.views.inplane);
 	EXPECT_EQ(a.views.centres, b.views.centres);
+	EXPECT_EQ(a.views.depthCentres, b.views.depthCentres);
+	EXPECT_EQ(a.views.anchorShare, b.views.anchorShare);
+	EXPECT_EQ(a.views.lateralStepMm, b.views.lateralStepMm);
+	EXPECT_EQ(a.views.refineTop, b.views.refineTop);
+	EXPECT_EQ(a.views.maxShiftMm, b.views.maxShiftMm);
+	EXPECT_EQ(a.views.inlierMm, b.views.inlierMm);
 	EXPECT_EQ(a.views.keep, b.views.keep);
 	EXPECT_EQ(a.views.boxCentre, b.views.boxCentre);
 	EXPECT_EQ(a.views.coarsePoints, b.views.coarsePoints);
@@ -156,6 +162,10 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\nkeep = 0\n", "view_search.keep"},
 		     {"[view_search]\npoints = 1000\n", "view_search.points"},
 		     {"[view_search]\ncoarse_keep = 5000\n", "view_search.coarse_keep"},
+		     {"[view_search]\ndepth_centres = 5\n", "view_search.depth_centres"},
+		     {"[view_search]\nanchor_share = 0\n", "view_search.anchor_share"},
+		     {"[view_search]\nlateral_step_mm = -1\n", "view_search.lateral_step_mm"},
+		     {"[view_search]\nrefine_top = 65\n", "view_search.refine_top"},
 		     {"[search]\nlevels = -1\n", "search.levels"},
 		     {"[score]\nresidual_weight = 1.5\n", "score.residual_weight"},
 		     {"[votes]\nrotation_modes = 0\n", "votes.rotation_modes"},

@@ -34,8 +34,31 @@ TEST(DepthWindows, DensestSlabFirstThenTheNextDistinctOne)
 	EXPECT_LE(w[2].nearMm, 1500.0f);
 	EXPECT_GE(w[2].farMm, 1500.0f);
 
+	// The object's pixels spread evenly over 790..840 mm: median 815.
+	EXPECT_NEAR(windowMedianDepth(img, w[0]), 815.0f, 2.0f);
+	EXPECT_NEAR(windowMedianDepth(img, w[1]), 600.0f, 2.0f);
+	EXPECT_EQ(windowMedianDepth(img, DepthWindow{1000.0f, 1100.0f, 0}), 0.0f); // nothing inside
+	EXPECT_EQ(windowMedianDepth(img, DepthWindow{900.0f, 900.0f, 0}), 0.0f);   // no thickness
+
 	std::fill(px.begin(), px.end(), 0.0f);
 	EXPECT_EQ(findDepthWindows(img, 100.0f, hist, w), 0u); // no depth, no window
+}
+
+TEST(DepthWindows, MedianDepthOfTheBoxCentreIgnoresTheRim)
+{
+	// The object (800 mm) fills the middle of the box, a table behind it
+	// (880 mm) the 20-pixel rim: one 150 mm slab holds both.
+	std::vector<float> px(100 * 100);
+	ImageView<float> img(px.data(), 100, 100, 100);
+	for (int y = 0; y < 100; ++y)
+		for (int x = 0; x < 100; ++x)
+			img.at(x, y) = (x < 20 || y < 20 || x >= 80 || y >= 80) ? 880.0f : 800.0f;
+	const DepthWindow slab{760.0f, 910.0f, 0};
+	EXPECT_NEAR(windowMedianDepth(img, slab), 880.0f, 2.5f);       // the rim outnumbers the object
+	EXPECT_NEAR(windowMedianDepth(img, slab, 0.5f), 800.0f, 2.5f); // the middle half is the object
+	// A window with (almost) nothing in the middle falls back to the box.
+	const DepthWindow rimOnly{860.0f, 900.0f, 0};
+	EXPECT_NEAR(windowMedianDepth(img, rimOnly, 0.5f), 880.0f, 1.0f);
 }
 
 Mesh unitCube(float side)
