@@ -310,25 +310,30 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	ViewProposal top[kMaxKeep];
 	const size_t keepN = static_cast<size_t>(std::clamp(config.views.keep, 1, kMaxKeep));
 	const float same = static_cast<float>(0.05 * diameter);
-	for (int c = 0; c < nc; ++c) {
-		if (!boxFits(costs_.average(Stage::kViews)))
-			return;
+	// A side on the frame border was clipped: that axis' centre is not the
+	// object's.
+	const BoxAxes axes{!openSides_.left && !openSides_.right, !openSides_.top && !openSides_.bottom};
+	// One search (anchored in depth when anchor > 0); its proposals are
+	// scored in full, reported under `stage` and kept.
+	auto searchAt = [&](const Eigen::Vector3d &centre, float anchor, const char *stage) {
 		const int64_t start = timer_.last();
-		// A side on the frame border was clipped: that axis' centre is not
-		// the object's.
-		const BoxAxes axes{!openSides_.left && !openSides_.right, !openSides_.top && !openSides_.bottom};
-		const size_t n = searchViews(model.viewTemplates(), vc, observedView_, K, centres[c],
-					     std::span<ViewProposal>(top, keepN), axes);
+		const size_t n = searchViews(model.viewTemplates(), vc, observedView_, K, centre,
+					     std::span<ViewProposal>(top, keepN), axes, anchor);
 		for (size_t j = 0; j < n; ++j) {
 			Hypothesis h;
 			h.pose = top[j].pose;
 			h.score = score(h.pose, K, model, config);
 			h.iteration = config.iterations + 1;
 			h.valid = true;
-			report(h.iteration, "view", static_cast<int>(j), h.pose, h.score, top[j].score);
+			report(h.iteration, stage, static_cast<int>(j), h.pose, h.score, top[j].score);
 			keep(h, same);
 		}
 		costs_.observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
+	};
+	for (int c = 0; c < nc; ++c) {
+		if (!boxFits(costs_.average(Stage::kViews)))
+			return;
+		searchAt(centres[c], 0.0f, "view");
 	}
 	// Centres from the box and the depth alone: on the box's ray (the
 	// virtual crop's optical axis) at each dense slab's median depth.
@@ -337,22 +342,8 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 		if (!boxFits(costs_.average(Stage::kViews)))
 			return;
 		const float anchor = windowMedianDepth(observedView_, windows_[w], config.views.anchorShare);
-		if (!(anchor > 0))
-			continue;
-		const int64_t start = timer_.last();
-		const BoxAxes axes{!openSides_.left && !openSides_.right, !openSides_.top && !openSides_.bottom};
-		const size_t n = searchViews(model.viewTemplates(), vc, observedView_, K, Eigen::Vector3d::Zero(),
-					     std::span<ViewProposal>(top, keepN), axes, anchor);
-		for (size_t j = 0; j < n; ++j) {
-			Hypothesis h;
-			h.pose = top[j].pose;
-			h.score = score(h.pose, K, model, config);
-			h.iteration = config.iterations + 1;
-			h.valid = true;
-			report(h.iteration, "view_depth", static_cast<int>(j), h.pose, h.score, top[j].score);
-			keep(h, same);
-		}
-		costs_.observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
+		if (anchor > 0)
+			searchAt(Eigen::Vector3d::Zero(), anchor, "view_depth");
 	}
 }
 

@@ -194,12 +194,16 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	const double distinct = config.distinctDeg * M_PI / 180.0;
 	const bool centring = config.boxCentre && (box.x || box.y);
 
+	// The view's points (already rotated by the view) turned in-plane.
+	auto turnedView = [&](const Eigen::Vector3f *pts, int m, int turn) {
+		const double angle = 2.0 * M_PI * turn / config.inplane;
+		return TurnedView{pts, m, static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle))};
+	};
 	// Score of one rotation on the first m of `pts` (already rotated by the
 	// view), at the given and the box-centred translation; t gets the
 	// better one's.
 	auto evaluate = [&](const Eigen::Vector3f *pts, int m, int turn, Eigen::Vector3f &t) {
-		const double angle = 2.0 * M_PI * turn / config.inplane;
-		const TurnedView tv{pts, m, static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle))};
+		const TurnedView tv = turnedView(pts, m, turn);
 		t = t0;
 		float best = scorer.score(scorer.aligned(tv, t, res.data()), m);
 		if (centring) {
@@ -250,10 +254,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	// Sideways hill climb of one proposal's sparse score; depth re-aligned
 	// at every step.
 	auto climbSideways = [&](ViewProposal &p) {
-		const int m = rotateView(p.view, 1);
-		const double angle = 2.0 * M_PI * p.turn / config.inplane;
-		const TurnedView tv{rotated.data(), m, static_cast<float>(std::cos(angle)),
-				    static_cast<float>(std::sin(angle))};
+		const TurnedView tv = turnedView(rotated.data(), rotateView(p.view, 1), p.turn);
 		Eigen::Vector3f t = p.pose.t.cast<float>();
 		float best = p.score;
 		for (float step = config.lateralStepMm; step > 0.2f * config.lateralStepMm; step *= 0.5f) {
@@ -262,7 +263,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 				for (int d = 0; d < 4; ++d) {
 					Eigen::Vector3f c = t;
 					c[d / 2] += (d % 2 ? step : -step);
-					const float sc = scorer.score(scorer.aligned(tv, c, res.data()), m);
+					const float sc = scorer.score(scorer.aligned(tv, c, res.data()), tv.n);
 					if (sc > best) {
 						best = sc;
 						bestT = c;
