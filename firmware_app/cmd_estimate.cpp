@@ -33,6 +33,7 @@ struct EstimateOptions {
 	double budgetMs = -1;
 	bool noIcp = false;
 	bool noViews = false;
+	bool noHalfTurns = false;
 	bool paper = false;
 	bool quiet = false;
 	std::string trace;
@@ -113,6 +114,8 @@ int runEstimate(const EstimateOptions &o)
 		s.estimator.icp = false;
 	if (o.noViews || o.paper)
 		s.estimator.views.inplane = 0;
+	if (o.noHalfTurns || o.paper)
+		s.estimator.halfTurns.candidates = 0;
 	if (o.budgetMs >= 0)
 		s.estimator.frameBudgetMs = static_cast<float>(o.budgetMs);
 
@@ -313,7 +316,8 @@ void addEstimateCommand(CLI::App &root, Action &action)
 		->check(CLI::Range(0, 100));
 	cmd->add_flag("--no-icp", opts->noIcp, "Skip the final ICP polish");
 	cmd->add_flag("--no-views", opts->noViews, "Skip the view-template rotation search");
-	cmd->add_flag("--paper", opts->paper, "The paper's method alone: --no-icp --no-views");
+	cmd->add_flag("--no-half-turns", opts->noHalfTurns, "Skip the half-turns of the best hypotheses");
+	cmd->add_flag("--paper", opts->paper, "The paper's method alone: --no-icp --no-views --no-half-turns");
 	cmd->add_option("--budget-ms", opts->budgetMs,
 			"Time budget per frame in ms, shared by its boxes (0: unlimited; default from the config, 33)")
 		->check(CLI::Range(0.0, 1e6));

@@ -273,7 +273,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	EstimateSettings s;
 	if (path.empty())
 		return s;
-	auto parsed = openConfig(path, {"refinement", "votes", "score", "icp", "search", "view_search", "budget", "limits"});
+	auto parsed = openConfig(path, {"refinement", "votes", "score", "icp", "search", "view_search", "half_turns", "budget", "limits"});
 	if (!parsed)
 		return parsed.error();
 	const toml::table &root = *parsed;
@@ -346,6 +346,13 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	views.get("points", s.viewTemplates.pointsPerView);
 	IHF_SECTION(views);
 
+	TableReader turns(root["half_turns"].as_table(), file, "half_turns");
+	turns.get("candidates", e.halfTurns.candidates);
+	turns.get("axes", e.halfTurns.axes);
+	turns.get("keep", e.halfTurns.keep);
+	turns.get("align", e.halfTurns.align);
+	IHF_SECTION(turns);
+
 	TableReader budget(root["budget"].as_table(), file, "budget");
 	budget.get("frame_ms", e.frameBudgetMs);
 	IHF_SECTION(budget);
@@ -397,6 +404,9 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.views.coarseKeep >= 1 && e.views.coarseKeep <= kMaxCoarseKeep, "view_search.coarse_keep"),
 			  inRange(s.viewTemplates.viewpoints >= 1 && s.viewTemplates.viewpoints <= 100000, "view_search.viewpoints"),
 			  inRange(s.viewTemplates.pointsPerView >= 8 && s.viewTemplates.pointsPerView <= kMaxViewPoints, "view_search.points"),
+			  inRange(e.halfTurns.candidates >= 0 && e.halfTurns.candidates <= 4, "half_turns.candidates"),
+			  inRange(e.halfTurns.axes >= 0 && e.halfTurns.axes <= 1024, "half_turns.axes"),
+			  inRange(e.halfTurns.keep >= 1 && e.halfTurns.keep <= 4, "half_turns.keep"),
 			  inRange(e.frameBudgetMs >= 0, "budget.frame_ms")})
 		if (!st)
 			return st.error();

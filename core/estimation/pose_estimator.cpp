@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "core/estimation/forest_walker.h"
 #include "core/estimation/virtual_crop.h"
@@ -41,6 +42,21 @@ OpenSides openSides(const PixelBox &box, int width, int height)
 size_t count(int n)
 {
 	return static_cast<size_t>(std::max(n, 0));
+}
+
+// Inserts h into top[0, n), kept sorted best first and at most keep long.
+template <typename H>
+void insertTop(const H &h, H *top, int &n, int keep)
+{
+	int pos = n;
+	while (pos > 0 && top[pos - 1].score.score < h.score.score)
+		--pos;
+	if (pos >= keep)
+		return;
+	for (int j = std::min(n, keep - 1); j > pos; --j)
+		top[j] = top[j - 1];
+	top[pos] = h;
+	n = std::min(n + 1, keep);
 }
 
 } // namespace
@@ -262,15 +278,7 @@ void PoseEstimator::searchRotationBank(const CameraIntrinsics &K, const ObjectMo
 			h.score = score(h.pose, K, model, config);
 			h.iteration = config.iterations + 1;
 			h.valid = true;
-			int pos = nt;
-			while (pos > 0 && top[pos - 1].score.score < h.score.score)
-				--pos;
-			if (pos >= keepN)
-				continue;
-			for (int j = std::min(nt, keepN - 1); j > pos; --j)
-				top[j] = top[j - 1];
-			top[pos] = h;
-			nt = std::min(nt + 1, keepN);
+			insertTop(h, top, nt, keepN);
 		}
 		for (int j = 0; j < nt; ++j) {
 			report(top[j].iteration, "bank", j, top[j].pose, top[j].score, 0);
@@ -345,6 +353,122 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 		if (anchor > 0)
 			searchAt(Eigen::Vector3d::Zero(), anchor, "view_depth");
 	}
+}
+
+PoseEstimator::Hypothesis PoseEstimator::polishIcp(const Hypothesis &h, const CameraIntrinsics &K,
+						   const ObjectModel &model, const EstimatorConfig &config,
+						   Stage stage)
+{
+	// What ran before is the caller's stage, the cloud the cloud's, the
+	// rest ICP's; the caller's lap counts the call.
+	timer_.resume(stage);
+	maskToHypothesis(h.score, config);
+	const int n = buildCloud(workingView_, K, model.params());
+	IcpResult icp = refineIcp(std::span(cloud_.data(), n), model.mesh(), h.pose, K, renderer_,
+				  renderView_, config.icpConfig);
+	Hypothesis out;
+	if (icp.iterations > 0) {
+		out.pose = icp.pose;
+		out.score = score(icp.pose, K, model, config);
+		out.iteration = h.iteration;
+		out.valid = true;
+	}
+	timer_.resume(Stage::kIcp);
+	return out;
+}
+
+// The centroid (camera frame) of the model surface a pose shows, from its
+// render. A half-turn about the model's centre moves that surface when the
+// object is not symmetric about it (the can's body beside its handle: by
+// 70 mm); moving the turn by the difference puts it back where the
+// hypothesis saw it.
+std::optional<Eigen::Vector3d> PoseEstimator::shownCentroid(const Pose &pose, const CameraIntrinsics &K,
+							    const ObjectModel &model)
+{
+	renderView_.fill(0.0f);
+	if (!renderer_.render(model.mesh(), pose, K, renderView_))
+		return std::nullopt;
+	Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+	int n = 0;
+	for (int y = 0; y < renderView_.height; ++y)
+		for (int x = 0; x < renderView_.width; ++x) {
+			const float r = renderView_.at(x, y);
+			if (r > 0) {
+				sum += K.backProject(x, y, r);
+				++n;
+			}
+		}
+	if (n == 0)
+		return std::nullopt;
+	return sum / n;
+}
+
+// Turns each of the best distinct polished hypotheses by 180 deg about
+// every axis, scores the turns and polishes the best few. Each candidate
+// runs under the budget check.
+PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics &K, const ObjectModel &model,
+							 const EstimatorConfig &config,
+							 std::span<const Hypothesis> polished,
+							 const Hypothesis &best)
+{
+	constexpr int kMaxSources = 4, kMaxKeep = 4;
+	constexpr double kSameRotation = 20.0 * M_PI / 180.0;
+	const HalfTurnConfig &cfg = config.halfTurns;
+	const double diameter = model.params().diameter;
+	const Eigen::Vector3d centre = boundingBox(model.mesh()).centre().cast<double>();
+	// The best first, then the best-scored polished ones unlike those taken.
+	Hypothesis sources[kMaxSources];
+	int ns = 0;
+	sources[ns++] = best;
+	const int want = std::clamp(cfg.candidates, 1, kMaxSources);
+	while (ns < want) {
+		const Hypothesis *next = nullptr;
+		for (const Hypothesis &p : polished) {
+			bool distinct = p.valid;
+			for (int j = 0; j < ns && distinct; ++j)
+				distinct = (p.pose.t - sources[j].pose.t).norm() >= 0.1 * diameter ||
+					   rotationAngle(p.pose.R, sources[j].pose.R) >= kSameRotation;
+			if (distinct && (!next || p.score.score > next->score.score))
+				next = &p;
+		}
+		if (!next)
+			break;
+		sources[ns++] = *next;
+	}
+	const int keepN = std::clamp(cfg.keep, 1, kMaxKeep);
+	Hypothesis found = best;
+	for (int c = 0; c < ns; ++c) {
+		if (!boxFits(costs_.average(Stage::kHalfTurns)))
+			break;
+		const int64_t start = timer_.last();
+		const std::optional<Eigen::Vector3d> shown = cfg.align ? shownCentroid(sources[c].pose, K, model)
+								      : std::nullopt;
+		Hypothesis top[kMaxKeep];
+		int nt = 0;
+		for (int i = 0; i < cfg.axes; ++i) {
+			Hypothesis h;
+			h.pose = turnedAbout(sources[c].pose, halfTurn(i, cfg.axes), centre);
+			if (shown) {
+				if (const auto turned = shownCentroid(h.pose, K, model))
+					h.pose.t += *shown - *turned;
+			}
+			if (h.pose.t.z() <= 0)
+				continue;
+			h.score = score(h.pose, K, model, config);
+			h.iteration = sources[c].iteration;
+			h.valid = true;
+			insertTop(h, top, nt, keepN);
+		}
+		for (int j = 0; j < nt; ++j) {
+			Hypothesis p = config.icp ? polishIcp(top[j], K, model, config, Stage::kHalfTurns) : Hypothesis{};
+			const Hypothesis &r = p.valid ? p : top[j];
+			report(r.iteration, "half_turn", c * keepN + j, r.pose, r.score, 0);
+			if (r.score.score > found.score.score)
+				found = r;
+		}
+		costs_.observe(Stage::kHalfTurns, timer_.lap(Stage::kHalfTurns) - start);
+	}
+	return found;
 }
 
 int PoseEstimator::buildCloud(ImageView<const float> depth, const CameraIntrinsics &K,
@@ -667,6 +791,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		if (k < config.iterations) {
 			maskToHypothesis(iterBest.score, config);
 			haveFrame = config.hypothesisCube && hypothesisFrame(iterBest.pose, vk, model, cube);
+			timer_.resume(Stage::kScore); // the hypothesis' render for its cube
 		}
 	}
 	if (keptCount_ == 0) {
@@ -685,6 +810,9 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	// wins. Each polish must fit the budget.
 	const bool polish = config.icp || config.search.levels > 0;
 	const size_t polishCount = polish ? std::min(keptCount_, static_cast<size_t>(std::max(0, config.icpCandidates))) : 0;
+	constexpr size_t kMaxPolished = 16;
+	Hypothesis polished[kMaxPolished];
+	size_t polishedCount = 0;
 	for (size_t c = 0; c < polishCount; ++c) {
 		if (!icpFits()) {
 			out.icpSkipped = true;
@@ -705,25 +833,31 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 				}
 			}
 		}
+		Hypothesis result = cand;
 		if (config.icp) {
-			maskToHypothesis(cand.score, config);
-			int n = buildCloud(workingView_, vk, params);
-			IcpResult icp = refineIcp(std::span(cloud_.data(), n), model.mesh(), cand.pose, vk,
-						  renderer_, renderView_, config.icpConfig);
-			if (icp.iterations > 0) {
-				HypothesisScore s = score(icp.pose, vk, model, config);
-				report(cand.iteration, "icp", static_cast<int>(c), icp.pose, s, 0);
-				if (s.score > best.score.score) {
-					best.pose = icp.pose;
-					best.score = s;
-					best.iteration = cand.iteration;
+			Hypothesis p = polishIcp(cand, vk, model, config, Stage::kIcp);
+			if (p.valid) {
+				report(p.iteration, "icp", static_cast<int>(c), p.pose, p.score, 0);
+				if (p.score.score > best.score.score) {
+					best = p;
 					out.icpApplied = true;
 				}
+				result = p;
 			}
 		}
+		if (polishedCount < kMaxPolished)
+			polished[polishedCount++] = result;
 		// The cost model sees the whole polish (its cloud is counted
 		// under the cloud stage).
 		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart);
+	}
+	if (halfTurnsEnabled(config.halfTurns)) {
+		const Hypothesis turned = searchHalfTurns(vk, model, config,
+							  std::span<const Hypothesis>(polished, polishedCount), best);
+		if (turned.score.score > best.score.score) {
+			best = turned;
+			out.icpApplied = true;
+		}
 	}
 	out.bestIteration = best.iteration;
 

@@ -29,6 +29,7 @@
 // refinement is anytime: cut short, it returns the best hypothesis so far.
 // Per-stage times, budget stops and overruns are counted (stats()).
 
+#include <optional>
 #include <span>
 
 #include "core/common/expected.h"
@@ -42,6 +43,7 @@
 #include "core/features/unit_cube_frame.h"
 #include "core/ibs/ibs_fitter.h"
 #include "core/model/object_model.h"
+#include "core/pose/half_turns.h"
 #include "core/pose/local_pose_search.h"
 #include "core/pose/rotation_bank.h"
 #include "core/pose/view_search.h"
@@ -82,6 +84,10 @@ struct EstimatorConfig {
 	// distinct translations (view_search.h); the best join the hypotheses
 	// to polish. Not in the paper. Its weights follow `score`.
 	ViewSearchConfig views;
+	// The best polished hypotheses turned by 180 deg about axes through
+	// the model's centre, scored, and the best turns polished too. Not in
+	// the paper.
+	HalfTurnConfig halfTurns;
 	ScoreConfig score;
 	int minValidPixels = 60;
 	// Refinement normalises with the unit cube of the whole rendered
@@ -227,6 +233,18 @@ private:
 				const EstimatorConfig &config);
 	void searchViewTemplates(const CameraIntrinsics &K, const ObjectModel &model,
 				 const EstimatorConfig &config);
+	// Half-turns of the best distinct polished hypotheses (half_turns.h);
+	// returns the best found, or `best` when none scores higher.
+	Hypothesis searchHalfTurns(const CameraIntrinsics &K, const ObjectModel &model,
+				   const EstimatorConfig &config, std::span<const Hypothesis> polished,
+				   const Hypothesis &best);
+	std::optional<Eigen::Vector3d> shownCentroid(const Pose &pose, const CameraIntrinsics &K,
+						     const ObjectModel &model);
+	// ICP on the crop cut to h's depth range, then the score: the polished
+	// hypothesis, or an invalid one when ICP could not run. The time before
+	// it is charged to `stage`, the ICP and its score to kIcp.
+	Hypothesis polishIcp(const Hypothesis &h, const CameraIntrinsics &K, const ObjectModel &model,
+			     const EstimatorConfig &config, Stage stage);
 	// The first `max` distinct translations (0.1 diameter apart) of kept_.
 	int keptCentres(double diameter, int max, Eigen::Vector3d *centres) const;
 	void report(int iteration, const char *stage, int rank, const Pose &virtualPose,

@@ -20,6 +20,7 @@ const char *stageName(Stage stage)
 	case Stage::kBank: return "bank";
 	case Stage::kViews: return "views";
 	case Stage::kIcp: return "icp";
+	case Stage::kHalfTurns: return "half_turns";
 	case Stage::kCount: break;
 	}
 	return "unknown";

@@ -31,6 +31,7 @@ enum class Stage : uint8_t {
 	kBank,      // rotation bank at the best translations (optional)
 	kViews,     // view-template rotation search at the best translations (optional)
 	kIcp,       // final ICP polish and its score
+	kHalfTurns, // half-turns of the polished best, scored and polished (optional)
 	kCount,
 };
 
@@ -71,6 +72,17 @@ public:
 		c.totalNs += dt;
 		if (dt > c.maxNs)
 			c.maxNs = dt;
+		last_ = now;
+		return now;
+	}
+
+	// Charges the time since the last lap to `stage` without counting a
+	// call: a stage resumed within another's call (the ICP inside the
+	// half-turns), so that calls still count whole stage runs.
+	int64_t resume(Stage stage)
+	{
+		const int64_t now = clock_->nowNs();
+		counters_[static_cast<int>(stage)].totalNs += now - last_;
 		last_ = now;
 		return now;
 	}

@@ -62,9 +62,17 @@ protected:
 	{
 		std::normal_distribution<double> n(0, 1);
 		std::uniform_real_distribution<double> u(-40, 40);
+		// One draw per statement: the order of a call's arguments is
+		// unspecified, and the inputs must not differ between compilers.
+		Eigen::Vector4d q;
+		for (int i = 0; i < 4; ++i)
+			q[i] = n(rng);
+		Eigen::Vector3d t;
+		for (int i = 0; i < 3; ++i)
+			t[i] = u(rng);
 		Pose p;
-		p.R = Eigen::Quaterniond(Eigen::Vector4d(n(rng), n(rng), n(rng), n(rng)).normalized()).toRotationMatrix();
-		p.t = Eigen::Vector3d(u(rng), u(rng), 900 + u(rng));
+		p.R = Eigen::Quaterniond(q.normalized()).toRotationMatrix();
+		p.t = t + Eigen::Vector3d(0, 0, 900);
 		return p;
 	}
 

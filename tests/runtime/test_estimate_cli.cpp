@@ -69,8 +69,10 @@ TEST_F(EstimateCli, ReportsStagesBudgetAndArena)
 	EXPECT_EQ(j["budget"]["frames"], 1);
 	EXPECT_EQ(j["budget"]["refinement_iterations"], 2);
 	EXPECT_EQ(j["stages"]["ibs_fit"]["calls"], 4);   // 2 boxes x (k = 0, 1)
-	EXPECT_EQ(j["stages"]["cloud"]["calls"], 6);     // and one for each ICP
+	// and one for each ICP: the polish's and the two best half-turns'
+	EXPECT_EQ(j["stages"]["cloud"]["calls"], 10);
 	EXPECT_EQ(j["stages"]["icp"]["calls"], 2);
+	EXPECT_EQ(j["stages"]["half_turns"]["calls"], 2); // one polished hypothesis per box
 	EXPECT_EQ(j["box_ms"]["count"], 2);
 	const size_t used = j["arena"]["used_bytes"], capacity = j["arena"]["capacity_bytes"];
 	EXPECT_GT(used, static_cast<size_t>(j["arena"]["persistent_bytes"]));

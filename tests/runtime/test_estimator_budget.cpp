@@ -7,6 +7,9 @@
 // matches the sizing function and the high-water mark is the persistent
 // part plus the largest box's scratch.
 
+#include <tuple>
+#include <utility>
+
 #include <gtest/gtest.h>
 
 #include "core/estimation/pose_estimator.h"
@@ -52,6 +55,15 @@ protected:
 		return e.estimate(depth_->view(), test::kKinect, box_, *model_->model, c);
 	}
 
+	// One box on a fresh estimator whose clock steps 1 ms per read.
+	std::pair<PoseEstimate, EstimatorStats> runFresh(const EstimatorConfig &c)
+	{
+		test::StepClock clock(kMs);
+		PoseEstimator e({}, &clock);
+		PoseEstimate r = run(e, c);
+		return {r, e.stats()};
+	}
+
 	static test::SmallModel *model_;
 	static DepthImageMm *depth_;
 	static PixelBox box_;
@@ -74,8 +86,11 @@ TEST_F(EstimatorBudget, IterationBoundHonouredWhenTimeIsAmple)
 	EXPECT_EQ(s.iterations, 3u);
 	EXPECT_EQ(s.budgetStops, 0u);
 	EXPECT_EQ(s.frameOverruns + s.boxOverruns, 0u);
-	// One cloud per iteration plus the polish's; one score per iteration.
-	EXPECT_EQ(s.stages[static_cast<int>(Stage::kCloud)].calls, 5u);
+	// One cloud per iteration plus the polish's and its two best half-turns'
+	// (one polished hypothesis: one half-turn search); one score per
+	// iteration.
+	EXPECT_EQ(s.stages[static_cast<int>(Stage::kCloud)].calls, 7u);
+	EXPECT_EQ(s.stages[static_cast<int>(Stage::kHalfTurns)].calls, 1u);
 	EXPECT_EQ(s.stages[static_cast<int>(Stage::kIbsFit)].calls, 4u);
 	EXPECT_EQ(s.stages[static_cast<int>(Stage::kScore)].calls, 4u);
 	EXPECT_EQ(s.stages[static_cast<int>(Stage::kIcp)].calls, 1u);
@@ -182,26 +197,44 @@ TEST_F(EstimatorBudget, ViewSearchRunsUnderTheBudgetAndCountsTheBoxOnce)
 
 	EstimatorConfig c = config(2, 1e6f);
 	c.views.inplane = 6;
-	{
-		test::StepClock clock(kMs);
-		PoseEstimator e({}, &clock);
-		PoseEstimate r = run(e, c);
-		ASSERT_TRUE(r.found) << r.reason;
-		EXPECT_FALSE(r.budgetStopped);
-		EXPECT_GT(e.stats().stages[static_cast<int>(Stage::kViews)].calls, 0u);
-	}
+	auto [r, s] = runFresh(c);
+	ASSERT_TRUE(r.found) << r.reason;
+	EXPECT_FALSE(r.budgetStopped);
+	EXPECT_GT(s.stages[static_cast<int>(Stage::kViews)].calls, 0u);
+
 	c.frameBudgetMs = 3.0f; // the initial registration alone overruns it
-	{
-		test::StepClock clock(kMs);
-		PoseEstimator e({}, &clock);
-		PoseEstimate r = run(e, c);
-		ASSERT_TRUE(r.found) << r.reason;
-		EXPECT_TRUE(r.budgetStopped);
-		EXPECT_EQ(r.iterationsDone, 0);
-		EstimatorStats s = e.stats();
-		EXPECT_EQ(s.stages[static_cast<int>(Stage::kViews)].calls, 0u);
-		EXPECT_EQ(s.budgetStops, 1u);
-	}
+	std::tie(r, s) = runFresh(c);
+	ASSERT_TRUE(r.found) << r.reason;
+	EXPECT_TRUE(r.budgetStopped);
+	EXPECT_EQ(r.iterationsDone, 0);
+	EXPECT_EQ(s.stages[static_cast<int>(Stage::kViews)].calls, 0u);
+	EXPECT_EQ(s.budgetStops, 1u);
+}
+
+// The half-turns of the polished best run under the budget too: with room
+// they run, and their best can only raise the score; without room none runs.
+TEST_F(EstimatorBudget, HalfTurnsRunUnderTheBudget)
+{
+	EstimatorConfig c = config(2, 1e6f);
+	c.halfTurns.candidates = 0;
+	auto [r, s] = runFresh(c);
+	ASSERT_TRUE(r.found) << r.reason;
+	const float plainScore = r.score.score;
+	EXPECT_EQ(s.stages[static_cast<int>(Stage::kHalfTurns)].calls, 0u);
+
+	c.halfTurns = HalfTurnConfig{2, 8, 1};
+	std::tie(r, s) = runFresh(c);
+	ASSERT_TRUE(r.found) << r.reason;
+	EXPECT_FALSE(r.budgetStopped);
+	EXPECT_GE(r.score.score, plainScore);
+	EXPECT_GT(s.stages[static_cast<int>(Stage::kHalfTurns)].calls, 0u);
+
+	c.frameBudgetMs = 3.0f; // the initial registration alone overruns it
+	std::tie(r, s) = runFresh(c);
+	ASSERT_TRUE(r.found) << r.reason;
+	EXPECT_TRUE(r.budgetStopped);
+	EXPECT_EQ(s.stages[static_cast<int>(Stage::kHalfTurns)].calls, 0u);
+	EXPECT_EQ(s.budgetStops, 1u);
 }
 
 TEST_F(EstimatorBudget, ArenaMatchesItsSizingAndMeasuresTheLargestBox)

@@ -224,14 +224,15 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 	cfg.icp = true;
 	cfg.partStride = 8; // fewer parts and votes than the model's 4: a faster test, the same code
 	cfg.views.inplane = 0;
-	// Every third frame also runs the optional rotation bank, score search
-	// and view-template search.
+	// Every third frame also runs the optional rotation bank, score search,
+	// view-template search and half-turns.
 	EstimatorConfig searching = cfg;
 	searching.bank = RotationBankConfig{10, 4, 1, 2};
 	searching.views.inplane = 8;
 	searching.views.keep = 4;
 	searching.search.levels = 1;
 	searching.search.maxPasses = 1;
+	searching.halfTurns = HalfTurnConfig{2, 8, 1};
 
 	constexpr int kWarmUp = 4, kFrames = 100;
 	int found = 0, noPose = 0, synthApeGood = 0, synthApeBoxes = 0, budgetStops = 0, icpRuns = 0;
@@ -281,6 +282,7 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 	EXPECT_GE(s.iterations, static_cast<uint64_t>(kFrames));
 	EXPECT_GT(s.stages[static_cast<int>(Stage::kBank)].calls, 0u);
 	EXPECT_GT(s.stages[static_cast<int>(Stage::kViews)].calls, 0u);
+	EXPECT_GT(s.stages[static_cast<int>(Stage::kHalfTurns)].calls, 0u);
 	std::printf("frames %d, boxes found %d, no pose %d, budget stops %d, arena used %zu of %zu bytes\n",
 		    kWarmUp + kFrames, found, noPose, budgetStops, s.arenaHighWater, s.arenaCapacity);
 	for (int i = 0; i < kStageCount; ++i)

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// Half-turn proposals: a found pose turned by 180 deg about axes through the
+// model's centre. Many objects look alike from a view and its half-turn
+// (the can upside down, the duck facing away), and a wrong pose of that kind
+// sits at a strong vote mode with its best rotation neighbours all wrong; the
+// half-turn of the best hypothesis is where the right one lies (issue 3,
+// session 9: 20 of the can's 48 failures were within 15 deg of a half-turn
+// about a model axis). The axes are spread evenly over a hemisphere of the
+// model frame (a turn about -a is the turn about a), generated on demand.
+
+#include <Eigen/Core>
+
+#include "core/geometry/pose.h"
+
+namespace ihf {
+
+struct HalfTurnConfig {
+	int candidates = 2; // distinct best polished hypotheses turned; 0: off
+	int axes = 64;      // half-turn axes over the hemisphere
+	int keep = 2;       // best-scoring turns per candidate that get an ICP polish
+	bool align = true;  // move each turn so the surface it shows sits where the candidate's did
+};
+
+inline bool halfTurnsEnabled(const HalfTurnConfig &c) { return c.candidates > 0 && c.axes > 0; }
+
+// Rotation (model frame) by 180 deg about axis i of count, 0 <= i < count.
+Eigen::Matrix3d halfTurn(int i, int count);
+
+// `pose` (model -> camera) turned by `turn` (model frame) about the model
+// point `centre`, which stays where it was in the camera frame.
+Pose turnedAbout(const Pose &pose, const Eigen::Matrix3d &turn, const Eigen::Vector3d &centre);
+
+} // namespace ihf

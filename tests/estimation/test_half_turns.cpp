@@ -1,0 +1,129 @@
+// SPDX-License-Identifier: MIT
+// Half-turn proposals (not in the paper): the turns are proper half-turns
+// about distinct axes of a hemisphere; a turn keeps the model's centre in
+// place and undoes itself; and on a render of the LM-O can, a pose turned
+// upside down is brought back by one of its two best-scoring half-turns.
+
+#include <algorithm>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/estimation/hypothesis_score.h"
+#include "core/geometry/camera_intrinsics.h"
+#include "core/geometry/mesh.h"
+#include "core/geometry/ply_loader.h"
+#include "core/geometry/pose.h"
+#include "core/pose/half_turns.h"
+#include "core/render/depth_renderer.h"
+#include "tests/common/test_paths.h"
+
+namespace ihf {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+TEST(HalfTurns, AreHalfTurnsAboutDistinctAxesOfAHemisphere)
+{
+	for (int count : {1, 3, 64}) {
+		std::vector<Eigen::Vector3d> axes;
+		for (int i = 0; i < count; ++i) {
+			const Eigen::Matrix3d h = halfTurn(i, count);
+			EXPECT_TRUE((h * h.transpose()).isIdentity(1e-12)) << i;
+			EXPECT_NEAR(h.determinant(), 1.0, 1e-12);
+			EXPECT_NEAR(rotationAngle(Eigen::Matrix3d::Identity(), h), M_PI, 1e-6) << i;
+			EXPECT_TRUE((h * h).isIdentity(1e-12)) << i; // a half-turn twice is no turn
+			// Its axis: the eigenvector of eigenvalue 1, i.e. (h + I) / 2's column space.
+			const Eigen::Matrix3d p = 0.5 * (h + Eigen::Matrix3d::Identity());
+			Eigen::Vector3d a = p.col(0).norm() > 0.5 ? p.col(0) : (p.col(1).norm() > 0.5 ? p.col(1) : p.col(2));
+			a.normalize();
+			if (a.z() < 0)
+				a = -a;
+			EXPECT_GT(a.z(), 0.0) << i;
+			axes.push_back(a);
+		}
+		for (size_t i = 0; i < axes.size(); ++i)
+			for (size_t j = 0; j < i; ++j)
+				EXPECT_LT(std::abs(axes[i].dot(axes[j])), 0.999) << i << " " << j; // distinct up to sign
+	}
+}
+
+TEST(HalfTurns, KeepTheCentreInPlaceAndUndoThemselves)
+{
+	Pose p;
+	p.R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+	p.t = Eigen::Vector3d(20, -30, 800);
+	const Eigen::Vector3d centre(5, -7, 40);
+	for (int i = 0; i < 16; ++i) {
+		const Pose q = turnedAbout(p, halfTurn(i, 16), centre);
+		EXPECT_TRUE(q.apply(centre).isApprox(p.apply(centre), 1e-9)) << i;
+		EXPECT_NEAR(rotationAngle(p.R, q.R), M_PI, 1e-6) << i;
+		const Pose back = turnedAbout(q, halfTurn(i, 16), centre);
+		EXPECT_TRUE(back.R.isApprox(p.R, 1e-9)) << i;
+		EXPECT_TRUE(back.t.isApprox(p.t, 1e-9)) << i;
+	}
+}
+
+// The can seen from the side, then the same pose turned 180 deg about its
+// own horizontal axis (upside down): among the 64 half-turns of the wrong
+// pose, the best by the depth score is within a few degrees of the truth
+// and scores near the truth's own score.
+TEST(HalfTurns, TheBestTurnOfAnUpsideDownCanIsTheTruth)
+{
+	auto loaded = loadPly(test::lmoDir() / "models" / "obj_000005.ply");
+	ASSERT_TRUE(loaded) << loaded.error().message;
+	const Mesh &mesh = *loaded;
+	const CameraIntrinsics K{572.4114, 573.57043, 160.0, 120.0, 320, 240};
+	Pose truth;
+	truth.R = (Eigen::AngleAxisd(-80 * kDeg, Eigen::Vector3d::UnitX()) *
+		   Eigen::AngleAxisd(30 * kDeg, Eigen::Vector3d::UnitZ())).toRotationMatrix();
+	truth.t = Eigen::Vector3d(0, 0, 900);
+	DepthRenderer renderer(mesh.vertices.size());
+	std::vector<float> scene(static_cast<size_t>(K.width) * K.height, 0.0f), view(scene.size());
+	ImageView<float> sceneView(scene.data(), K.width, K.height, K.width);
+	ASSERT_TRUE(renderer.render(mesh, truth, K, sceneView));
+	for (float &d : scene)
+		if (!(d > 0))
+			d = 1100.0f; // a wall behind
+	const ScoreConfig cfg;
+	auto scoreOf = [&](const Pose &p) {
+		std::fill(view.begin(), view.end(), 0.0f);
+		ImageView<float> v(view.data(), K.width, K.height, K.width);
+		if (!renderer.render(mesh, p, K, v))
+			return 0.0f;
+		return scoreHypothesis(sceneView, v, cfg).depthScore;
+	};
+	const Eigen::Vector3d centre = boundingBox(mesh).centre().cast<double>();
+	// Upside down: a half-turn about the model's x axis tilted by 10 deg,
+	// which is none of the 64 axes.
+	const Eigen::Vector3d flipAxis = Eigen::AngleAxisd(10 * kDeg, Eigen::Vector3d::UnitZ()) * Eigen::Vector3d::UnitX();
+	const Pose wrong = turnedAbout(truth, Eigen::AngleAxisd(M_PI, flipAxis).toRotationMatrix(), centre);
+	const float truthScore = scoreOf(truth), wrongScore = scoreOf(wrong);
+	ASSERT_GT(truthScore, 0.9f);
+	// The estimator polishes the two best-scoring turns (keep = 2).
+	std::vector<std::pair<float, Pose>> turns;
+	for (int i = 0; i < 64; ++i) {
+		const Pose q = turnedAbout(wrong, halfTurn(i, 64), centre);
+		turns.emplace_back(scoreOf(q), q);
+	}
+	std::partial_sort(turns.begin(), turns.begin() + 2, turns.end(),
+			  [](const auto &x, const auto &y) { return x.first > y.first; });
+	EXPECT_LT(wrongScore, truthScore - 0.2f);
+	EXPECT_GT(turns[0].first, wrongScore + 0.1f);
+	// Two half-turns about axes d apart compose to a turn by 2 d: one of
+	// the two is as near the truth as the axis nearest the flip allows.
+	double nearest = M_PI;
+	for (int i = 0; i < 64; ++i) {
+		const Eigen::Matrix3d p = 0.5 * (halfTurn(i, 64) + Eigen::Matrix3d::Identity());
+		const Eigen::Vector3d a = (p.col(0).norm() > 0.5 ? p.col(0) : (p.col(1).norm() > 0.5 ? p.col(1) : p.col(2))).normalized();
+		nearest = std::min(nearest, std::acos(std::min(1.0, std::abs(a.dot(flipAxis)))));
+	}
+	const double err = std::min(rotationAngle(turns[0].second.R, truth.R), rotationAngle(turns[1].second.R, truth.R));
+	EXPECT_LT(err, 2 * nearest + 1 * kDeg) << nearest / kDeg;
+	// The turns keep the centre, which the truth shares.
+	EXPECT_LT((turns[0].second.t - truth.t).norm(), 1e-6);
+}
+
+} // namespace
+} // namespace ihf
