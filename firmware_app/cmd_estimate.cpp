@@ -139,13 +139,13 @@ int runEstimate(const EstimateOptions &o)
 		if ((*m)->params().objId != id)
 			std::fprintf(stderr, "ihf estimate: note: %s was trained as object %d, used for %d\n",
 				     spec.substr(eq + 1).c_str(), (*m)->params().objId, id);
-		s.limits.maxMeshVertices = std::max(s.limits.maxMeshVertices, (*m)->mesh().vertices.size());
-		s.limits.maxIbsN = std::max(s.limits.maxIbsN, (*m)->params().ibs.n);
-		s.limits.maxIbsPoints = std::max(s.limits.maxIbsPoints, (*m)->params().ibs.maxPoints);
-		if (Status st = prepareViewTemplates(**m, s); !st) {
+		if (Status st = prepareModel(**m, s); !st) {
 			std::fprintf(stderr, "ihf estimate: %s: %s\n", spec.substr(eq + 1).c_str(), st.error().message.c_str());
 			return kExitFailure;
 		}
+		s.limits.maxMeshVertices = std::max(s.limits.maxMeshVertices, (*m)->renderMesh().vertices.size());
+		s.limits.maxIbsN = std::max(s.limits.maxIbsN, (*m)->params().ibs.n);
+		s.limits.maxIbsPoints = std::max(s.limits.maxIbsPoints, (*m)->params().ibs.maxPoints);
 		models[id] = std::move(m.value());
 	}
 

@@ -117,11 +117,11 @@ int runRun(const RunOptions &o)
 				     file.string().c_str(), (*m)->params().objId, id);
 		// Sized for every model, as ihf estimate does.
 		EstimatorLimits &l = es->limits;
-		l.maxMeshVertices = std::max(l.maxMeshVertices, (*m)->mesh().vertices.size());
+		if (Status st = prepareModel(**m, *es); !st)
+			return failWith(file.string() + ": " + std::string(st.error().message));
+		l.maxMeshVertices = std::max(l.maxMeshVertices, (*m)->renderMesh().vertices.size());
 		l.maxIbsN = std::max(l.maxIbsN, (*m)->params().ibs.n);
 		l.maxIbsPoints = std::max(l.maxIbsPoints, (*m)->params().ibs.maxPoints);
-		if (Status st = prepareViewTemplates(**m, *es); !st)
-			return failWith(file.string() + ": " + std::string(st.error().message));
 		models[id] = m->get();
 		owned[id] = std::move(m.value());
 	}

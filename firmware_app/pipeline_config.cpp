@@ -6,6 +6,8 @@
 
 #include <toml++/toml.h>
 
+#include "core/geometry/mesh_simplify.h"
+
 namespace ihf::app {
 
 namespace {
@@ -273,7 +275,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	EstimateSettings s;
 	if (path.empty())
 		return s;
-	auto parsed = openConfig(path, {"refinement", "votes", "score", "icp", "search", "view_search", "half_turns", "budget", "limits"});
+	auto parsed = openConfig(path, {"refinement", "votes", "score", "icp", "search", "view_search", "half_turns", "render_mesh", "budget", "limits"});
 	if (!parsed)
 		return parsed.error();
 	const toml::table &root = *parsed;
@@ -353,6 +355,10 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	turns.get("align", e.halfTurns.align);
 	IHF_SECTION(turns);
 
+	TableReader render(root["render_mesh"].as_table(), file, "render_mesh");
+	render.get("max_error_mm", s.renderMeshErrorMm);
+	IHF_SECTION(render);
+
 	TableReader budget(root["budget"].as_table(), file, "budget");
 	budget.get("frame_ms", e.frameBudgetMs);
 	IHF_SECTION(budget);
@@ -407,6 +413,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.halfTurns.candidates >= 0 && e.halfTurns.candidates <= 4, "half_turns.candidates"),
 			  inRange(e.halfTurns.axes >= 0 && e.halfTurns.axes <= 1024, "half_turns.axes"),
 			  inRange(e.halfTurns.keep >= 1 && e.halfTurns.keep <= 4, "half_turns.keep"),
+			  inRange(s.renderMeshErrorMm >= 0 && s.renderMeshErrorMm <= 20, "render_mesh.max_error_mm"),
 			  inRange(e.frameBudgetMs >= 0, "budget.frame_ms")})
 		if (!st)
 			return st.error();
@@ -522,15 +529,21 @@ Expected<RunSettings> loadRunConfig(const std::filesystem::path &path)
 	return s;
 }
 
-Status prepareViewTemplates(ObjectModel &model, const EstimateSettings &settings)
+Status prepareModel(ObjectModel &model, const EstimateSettings &settings)
 {
-	if (settings.estimator.views.inplane <= 0 || !model.viewTemplates().empty())
-		return {};
-	auto points = buildViewTemplatePoints(model.mesh(), model.params().diameter, settings.viewTemplates);
-	if (!points)
-		return points.error();
-	model.attachViewTemplates(settings.viewTemplates.viewpoints, settings.viewTemplates.pointsPerView,
-				  std::move(*points));
+	if (settings.estimator.views.inplane > 0 && model.viewTemplates().empty()) {
+		auto points = buildViewTemplatePoints(model.mesh(), model.params().diameter, settings.viewTemplates);
+		if (!points)
+			return points.error();
+		model.attachViewTemplates(settings.viewTemplates.viewpoints, settings.viewTemplates.pointsPerView,
+					  std::move(*points));
+	}
+	if (settings.renderMeshErrorMm > 0) {
+		auto simple = simplifyMesh(model.mesh(), settings.renderMeshErrorMm);
+		if (!simple)
+			return simple.error();
+		model.attachRenderMesh(std::move(simple->mesh));
+	}
 	return {};
 }
 

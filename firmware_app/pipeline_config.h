@@ -37,12 +37,16 @@ struct EstimateSettings {
 	// Templates built at load for forest files written without them
 	// ([views] viewpoints, points).
 	ViewTemplateConfig viewTemplates;
+	// Hypotheses are rendered with the mesh simplified to this deviation
+	// ([render_mesh] max_error_mm); 0: the full mesh.
+	float renderMeshErrorMm = 0.5f;
 };
 
-// Gives the model view templates when the view search is on and its file
-// has none (forests trained before templates were stored): built from its
-// mesh, about a second. Offline (allocates): call at start-up.
-Status prepareViewTemplates(ObjectModel &model, const EstimateSettings &settings);
+// Readies a loaded model for estimation. Gives it view templates when the
+// view search is on and its file has none (forests trained before templates
+// were stored: built from its mesh, about a second), and its simplified
+// render mesh. Offline (allocates): call at start-up.
+Status prepareModel(ObjectModel &model, const EstimateSettings &settings);
 
 // `ihf run` (config/device.toml). Relative paths in the file (recording:
 // URIs, forests, box and pose files, the estimation config) are relative to

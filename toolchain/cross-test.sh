@@ -56,6 +56,7 @@ fi
 # Target side: compiled libraries, unpacked. Run-time libraries come along
 # for the tests; libc and libstdc++ are the cross toolchain's.
 target_pkgs=(libpng-dev libpng16-16 zlib1g-dev zlib1g libtomlplusplus-dev libtomlplusplus3
+	libmeshoptimizer-dev libmeshoptimizer2d
 	libqhull-dev libqhull8.0 libqhull-r8.0 libqhullcpp8.0 libgtest-dev libgmock-dev
 	libusb-1.0-0-dev libusb-1.0-0 libudev1
 	libsystemd-dev libsystemd0 libcap2 libgcrypt20 libgpg-error0 liblz4-1 liblzma5 libzstd1)

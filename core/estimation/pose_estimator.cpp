@@ -364,7 +364,7 @@ PoseEstimator::Hypothesis PoseEstimator::polishIcp(const Hypothesis &h, const Ca
 	timer_.resume(stage);
 	maskToHypothesis(h.score, config);
 	const int n = buildCloud(workingView_, K, model.params());
-	IcpResult icp = refineIcp(std::span(cloud_.data(), n), model.mesh(), h.pose, K, renderer_,
+	IcpResult icp = refineIcp(std::span(cloud_.data(), n), model.renderMesh(), h.pose, K, renderer_,
 				  renderView_, config.icpConfig);
 	Hypothesis out;
 	if (icp.iterations > 0) {
@@ -386,7 +386,7 @@ std::optional<Eigen::Vector3d> PoseEstimator::shownCentroid(const Pose &pose, co
 							    const ObjectModel &model)
 {
 	renderView_.fill(0.0f);
-	if (!renderer_.render(model.mesh(), pose, K, renderView_))
+	if (!renderer_.render(model.renderMesh(), pose, K, renderView_))
 		return std::nullopt;
 	Eigen::Vector3d sum = Eigen::Vector3d::Zero();
 	int n = 0;
@@ -486,7 +486,7 @@ bool PoseEstimator::hypothesisFrame(const Pose &pose, const CameraIntrinsics &K,
 				    const ObjectModel &model, UnitCubeFrame &frame)
 {
 	renderView_.fill(0.0f);
-	if (!renderer_.render(model.mesh(), pose, K, renderView_))
+	if (!renderer_.render(model.renderMesh(), pose, K, renderView_))
 		return false;
 	Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
 	Eigen::Vector3f hi = -lo;
@@ -602,10 +602,10 @@ HypothesisScore PoseEstimator::score(const Pose &pose, const CameraIntrinsics &K
 				     const ObjectModel &model, const EstimatorConfig &config)
 {
 	renderView_.fill(0.0f);
-	if (!renderer_.render(model.mesh(), pose, K, renderView_))
+	if (!renderer_.render(model.renderMesh(), pose, K, renderView_))
 		return {};
 	HypothesisScore s = scoreHypothesis(observedView_, renderView_, config.score);
-	s.boxFactor = boxAgreement(model.mesh(), pose, K, config.score, openSides_);
+	s.boxFactor = boxAgreement(model.renderMesh(), pose, K, config.score, openSides_);
 	s.score = s.depthScore * s.boxFactor;
 	return s;
 }
@@ -642,7 +642,7 @@ Expected<HypothesisScore> PoseEstimator::scorePose(ImageView<const float> depth,
 {
 	if (!valid_)
 		return makeError(Errc::kCapacity, "estimator has no memory (arena allocation failed)");
-	if (model.mesh().vertices.size() > renderer_.capacity())
+	if (model.renderMesh().vertices.size() > renderer_.capacity())
 		return makeError(Errc::kCapacity, "model mesh larger than the estimator's render limit");
 	ArenaScope scratch(arena_);
 	VirtualCrop crop;
@@ -689,7 +689,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		out.reason = "estimator has no memory (arena allocation failed)";
 		return out;
 	}
-	if (model.mesh().vertices.size() > renderer_.capacity()) {
+	if (model.renderMesh().vertices.size() > renderer_.capacity()) {
 		out.reason = "model mesh larger than the estimator's render limit";
 		return out;
 	}

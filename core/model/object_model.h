@@ -28,6 +28,11 @@ public:
 	// the forest file, or attached after loading one written without them;
 	// empty otherwise.
 	const ViewTemplates &viewTemplates() const { return views_; }
+
+	// The mesh hypotheses are rendered with: a simplified copy when one was
+	// attached at load (mesh_simplify.h), else the mesh itself.
+	const Mesh &renderMesh() const { return renderMesh_.faces.empty() ? mesh() : renderMesh_; }
+	void attachRenderMesh(Mesh m) { renderMesh_ = std::move(m); }
 	void attachViewTemplates(int viewpoints, int pointsPerView, std::vector<Eigen::Vector3f> points)
 	{
 		ownedViews_ = std::move(points);
@@ -41,6 +46,7 @@ protected:
 private:
 	std::vector<Eigen::Vector3f> ownedViews_;
 	ViewTemplates views_;
+	Mesh renderMesh_;
 };
 
 // An in-memory model holding its own packed forest.

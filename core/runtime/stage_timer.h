@@ -68,10 +68,13 @@ public:
 		const int64_t now = clock_->nowNs();
 		const int64_t dt = now - last_;
 		StageCounter &c = counters_[static_cast<int>(stage)];
+		int64_t &resumed = resumed_[static_cast<int>(stage)];
 		c.calls++;
 		c.totalNs += dt;
-		if (dt > c.maxNs)
-			c.maxNs = dt;
+		// The call's length includes what resume() charged to it.
+		if (dt + resumed > c.maxNs)
+			c.maxNs = dt + resumed;
+		resumed = 0;
 		last_ = now;
 		return now;
 	}
@@ -83,6 +86,7 @@ public:
 	{
 		const int64_t now = clock_->nowNs();
 		counters_[static_cast<int>(stage)].totalNs += now - last_;
+		resumed_[static_cast<int>(stage)] += now - last_;
 		last_ = now;
 		return now;
 	}
@@ -96,12 +100,17 @@ public:
 
 	const std::array<StageCounter, kStageCount> &counters() const { return counters_; }
 	StageTotals totals() const;
-	void reset() { counters_ = {}; }
+	void reset()
+	{
+		counters_ = {};
+		resumed_ = {};
+	}
 
 private:
 	const Clock *clock_;
 	int64_t last_ = 0;
 	std::array<StageCounter, kStageCount> counters_{};
+	std::array<int64_t, kStageCount> resumed_{}; // charged by resume() since the stage's last lap
 };
 
 class StageCostModel

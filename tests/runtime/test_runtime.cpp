@@ -132,6 +132,36 @@ TEST(StageTimer, LapsChargeTheTimeSinceTheLastLap)
 	EXPECT_EQ(timer.last(), 215);
 }
 
+// A stage resumed inside another's call (the ICP inside the half-turns)
+// adds its time without a call; its call's length, for the maximum, is all
+// of it.
+TEST(StageTimer, ResumedTimeCountsTowardsTheCallNotTheCalls)
+{
+	ManualClock clock;
+	StageTimer timer(clock);
+	clock.t = 0;
+	timer.start();
+	clock.t = 40;
+	timer.resume(Stage::kHalfTurns); // 40 of half-turns
+	clock.t = 50;
+	timer.lap(Stage::kCloud);        // 10 of cloud, a call
+	clock.t = 80;
+	timer.resume(Stage::kIcp);       // 30 of ICP, no call
+	clock.t = 85;
+	timer.lap(Stage::kHalfTurns);    // 5 more: the half-turns' call is 45
+	const auto &c = timer.counters();
+	EXPECT_EQ(c[static_cast<int>(Stage::kHalfTurns)].calls, 1u);
+	EXPECT_EQ(c[static_cast<int>(Stage::kHalfTurns)].totalNs, 45);
+	EXPECT_EQ(c[static_cast<int>(Stage::kHalfTurns)].maxNs, 45);
+	EXPECT_EQ(c[static_cast<int>(Stage::kIcp)].calls, 0u);
+	EXPECT_EQ(c[static_cast<int>(Stage::kIcp)].totalNs, 30);
+	EXPECT_EQ(c[static_cast<int>(Stage::kCloud)].calls, 1u);
+	clock.t = 95;
+	timer.lap(Stage::kHalfTurns); // a new call of 10: the resumed time is spent
+	EXPECT_EQ(c[static_cast<int>(Stage::kHalfTurns)].maxNs, 45);
+	EXPECT_EQ(c[static_cast<int>(Stage::kHalfTurns)].totalNs, 55);
+}
+
 TEST(StageCostModel, RunningAveragePerStage)
 {
 	StageCostModel model(0.5);
