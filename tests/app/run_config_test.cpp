@@ -150,6 +150,11 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.views.boxCentre, b.views.boxCentre);
 	EXPECT_EQ(a.views.coarsePoints, b.views.coarsePoints);
 	EXPECT_EQ(a.views.coarseKeep, b.views.coarseKeep);
+	EXPECT_EQ(a.halfTurns.candidates, b.halfTurns.candidates);
+	EXPECT_EQ(a.halfTurns.axes, b.halfTurns.axes);
+	EXPECT_EQ(a.halfTurns.keep, b.halfTurns.keep);
+	EXPECT_EQ(a.halfTurns.align, b.halfTurns.align);
+	EXPECT_EQ(none->renderMeshErrorMm, bundled->renderMeshErrorMm);
 	EXPECT_EQ(none->viewTemplates.viewpoints, bundled->viewTemplates.viewpoints);
 	EXPECT_EQ(none->viewTemplates.pointsPerView, bundled->viewTemplates.pointsPerView);
 }
@@ -167,6 +172,9 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\nlateral_step_mm = -1\n", "view_search.lateral_step_mm"},
 		     {"[view_search]\nrefine_top = 65\n", "view_search.refine_top"},
 		     {"[search]\nlevels = -1\n", "search.levels"},
+		     {"[half_turns]\ncandidates = 5\n", "half_turns.candidates"},
+		     {"[half_turns]\nkeep = 0\n", "half_turns.keep"},
+		     {"[render_mesh]\nmax_error_mm = -1\n", "render_mesh.max_error_mm"},
 		     {"[score]\nresidual_weight = 1.5\n", "score.residual_weight"},
 		     {"[votes]\nrotation_modes = 0\n", "votes.rotation_modes"},
 		     {"[refinement]\npsi1 = 1.1\npsi2 = 1.0\n", "refinement.psi1/psi2"}}) {
