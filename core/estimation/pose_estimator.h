@@ -72,7 +72,7 @@ struct EstimatorConfig {
 	int partStride = 0; // 0: the model's training stride
 	int targetParts = 600; // wider stride when a box would give more parts; 0: off
 	bool icp = true;
-	int icpCandidates = 8; // distinct best hypotheses polished (search, ICP)
+	int icpCandidates = 16; // distinct best hypotheses polished (search, ICP)
 	IcpConfig icpConfig;
 	// Score hill climbing of the polished hypotheses before their ICP.
 	LocalSearchConfig search;
