@@ -143,9 +143,7 @@ int runEstimate(const EstimateOptions &o)
 			std::fprintf(stderr, "ihf estimate: %s: %s\n", spec.substr(eq + 1).c_str(), st.error().message.c_str());
 			return kExitFailure;
 		}
-		s.limits.maxMeshVertices = std::max(s.limits.maxMeshVertices, (*m)->renderMesh().vertices.size());
-		s.limits.maxIbsN = std::max(s.limits.maxIbsN, (*m)->params().ibs.n);
-		s.limits.maxIbsPoints = std::max(s.limits.maxIbsPoints, (*m)->params().ibs.maxPoints);
+		growLimitsFor(s.limits, **m);
 		models[id] = std::move(m.value());
 	}
 

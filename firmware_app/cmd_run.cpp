@@ -115,13 +115,9 @@ int runRun(const RunOptions &o)
 		if ((*m)->params().objId != id)
 			std::fprintf(stderr, "ihf run: note: %s was trained as object %d, used for %d\n",
 				     file.string().c_str(), (*m)->params().objId, id);
-		// Sized for every model, as ihf estimate does.
-		EstimatorLimits &l = es->limits;
 		if (Status st = prepareModel(**m, *es); !st)
 			return failWith(file.string() + ": " + std::string(st.error().message));
-		l.maxMeshVertices = std::max(l.maxMeshVertices, (*m)->renderMesh().vertices.size());
-		l.maxIbsN = std::max(l.maxIbsN, (*m)->params().ibs.n);
-		l.maxIbsPoints = std::max(l.maxIbsPoints, (*m)->params().ibs.maxPoints);
+		growLimitsFor(es->limits, **m); // sized for every model, as ihf estimate does
 		models[id] = m->get();
 		owned[id] = std::move(m.value());
 	}

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "firmware_app/pipeline_config.h"
 
+#include <algorithm>
 #include <set>
 #include <string>
 
@@ -545,6 +546,13 @@ Status prepareModel(ObjectModel &model, const EstimateSettings &settings)
 		model.attachRenderMesh(std::move(simple->mesh));
 	}
 	return {};
+}
+
+void growLimitsFor(EstimatorLimits &limits, const ObjectModel &model)
+{
+	limits.maxMeshVertices = std::max(limits.maxMeshVertices, model.renderMesh().vertices.size());
+	limits.maxIbsN = std::max(limits.maxIbsN, model.params().ibs.n);
+	limits.maxIbsPoints = std::max(limits.maxIbsPoints, model.params().ibs.maxPoints);
 }
 
 } // namespace ihf::app

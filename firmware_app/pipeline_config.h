@@ -48,6 +48,10 @@ struct EstimateSettings {
 // render mesh. Offline (allocates): call at start-up.
 Status prepareModel(ObjectModel &model, const EstimateSettings &settings);
 
+// Grows the estimator's limits to what a prepared model needs (its render
+// mesh, IBS lattice and point budget), so one arena serves every model.
+void growLimitsFor(EstimatorLimits &limits, const ObjectModel &model);
+
 // `ihf run` (config/device.toml). Relative paths in the file (recording:
 // URIs, forests, box and pose files, the estimation config) are relative to
 // the folder of the file.

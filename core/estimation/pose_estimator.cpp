@@ -377,6 +377,24 @@ PoseEstimator::Hypothesis PoseEstimator::polishIcp(const Hypothesis &h, const Ca
 	return out;
 }
 
+// Renders the pose into renderView_ and calls f with every covered pixel
+// back-projected (camera frame); false if the render failed.
+template <typename F>
+bool PoseEstimator::forEachShownPoint(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model,
+				      F &&f)
+{
+	renderView_.fill(0.0f);
+	if (!renderer_.render(model.renderMesh(), pose, K, renderView_))
+		return false;
+	for (int y = 0; y < renderView_.height; ++y)
+		for (int x = 0; x < renderView_.width; ++x) {
+			const float z = renderView_.at(x, y);
+			if (z > 0)
+				f(K.backProject(x, y, z));
+		}
+	return true;
+}
+
 // The centroid (camera frame) of the model surface a pose shows, from its
 // render. A half-turn about the model's centre moves that surface when the
 // object is not symmetric about it (the can's body beside its handle: by
@@ -385,20 +403,12 @@ PoseEstimator::Hypothesis PoseEstimator::polishIcp(const Hypothesis &h, const Ca
 std::optional<Eigen::Vector3d> PoseEstimator::shownCentroid(const Pose &pose, const CameraIntrinsics &K,
 							    const ObjectModel &model)
 {
-	renderView_.fill(0.0f);
-	if (!renderer_.render(model.renderMesh(), pose, K, renderView_))
-		return std::nullopt;
 	Eigen::Vector3d sum = Eigen::Vector3d::Zero();
 	int n = 0;
-	for (int y = 0; y < renderView_.height; ++y)
-		for (int x = 0; x < renderView_.width; ++x) {
-			const float r = renderView_.at(x, y);
-			if (r > 0) {
-				sum += K.backProject(x, y, r);
-				++n;
-			}
-		}
-	if (n == 0)
+	if (!forEachShownPoint(pose, K, model, [&](const Eigen::Vector3d &p) {
+		    sum += p;
+		    ++n;
+	    }) || n == 0)
 		return std::nullopt;
 	return sum / n;
 }
@@ -485,20 +495,14 @@ int PoseEstimator::buildCloud(ImageView<const float> depth, const CameraIntrinsi
 bool PoseEstimator::hypothesisFrame(const Pose &pose, const CameraIntrinsics &K,
 				    const ObjectModel &model, UnitCubeFrame &frame)
 {
-	renderView_.fill(0.0f);
-	if (!renderer_.render(model.renderMesh(), pose, K, renderView_))
-		return false;
 	Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
 	Eigen::Vector3f hi = -lo;
-	for (int y = 0; y < renderView_.height; ++y)
-		for (int x = 0; x < renderView_.width; ++x) {
-			float z = renderView_.at(x, y);
-			if (!(z > 0))
-				continue;
-			Eigen::Vector3f p = K.backProject(x, y, z).cast<float>();
-			lo = lo.cwiseMin(p);
-			hi = hi.cwiseMax(p);
-		}
+	if (!forEachShownPoint(pose, K, model, [&](const Eigen::Vector3d &point) {
+		    const Eigen::Vector3f p = point.cast<float>();
+		    lo = lo.cwiseMin(p);
+		    hi = hi.cwiseMax(p);
+	    }))
+		return false;
 	if (!(hi.x() >= lo.x()))
 		return false;
 	frame.centre = 0.5f * (lo + hi);

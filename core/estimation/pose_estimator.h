@@ -238,6 +238,8 @@ private:
 	Hypothesis searchHalfTurns(const CameraIntrinsics &K, const ObjectModel &model,
 				   const EstimatorConfig &config, std::span<const Hypothesis> polished,
 				   const Hypothesis &best);
+	template <typename F>
+	bool forEachShownPoint(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model, F &&f);
 	std::optional<Eigen::Vector3d> shownCentroid(const Pose &pose, const CameraIntrinsics &K,
 						     const ObjectModel &model);
 	// ICP on the crop cut to h's depth range, then the score: the polished
