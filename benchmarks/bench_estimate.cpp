@@ -1,8 +1,12 @@
 // SPDX-License-Identifier: MIT
 // Per-box latency of PoseEstimator::estimate on the real LM-O frame
 // (test/000002 image 3): the object's bbox_obj enlarged by 10%, shifted by a
-// few pixels from box to box. Arguments: k (refinement iterations), ICP on
-// or off, frame budget in ms (0: unlimited; one box per frame).
+// few pixels from box to box. The configuration is `ihf estimate`'s default
+// (config/estimate.toml, the model prepared as ihf prepares it: view
+// templates and the simplified render mesh). Arguments: k (refinement
+// iterations), ICP on or off (off also turns the half-turns off, as
+// `ihf estimate --no-icp`), frame budget in ms (0: unlimited; one box per
+// frame).
 //
 // The model: IHF_BENCH_FOREST=F.ihf (a forest file from `ihf train`) if set,
 // else a small forest trained at start-up from the LM-O mesh of object
@@ -34,6 +38,7 @@
 #include "core/model/forest_file.h"
 #include "core/training/hocp_split_metric.h"
 #include "core/training/training_set.h"
+#include "firmware_app/pipeline_config.h"
 
 #ifndef IHF_SHARED_DIR
 #define IHF_SHARED_DIR "../shared"
@@ -127,6 +132,8 @@ const Setup &setup()
 		}
 		if (out.box.empty())
 			die("object " + std::to_string(objId) + " is not in LM-O test/000002 image 3");
+		if (Status st = app::prepareModel(*out.model, app::EstimateSettings{}); !st)
+			die(st.error().message);
 		return out;
 	}();
 	return s;
@@ -143,18 +150,19 @@ double percentile(std::vector<double> v, double p)
 void BM_EstimateBox(benchmark::State &state)
 {
 	const Setup &s = setup();
-	EstimatorLimits limits;
-	limits.maxMeshVertices = std::max(limits.maxMeshVertices, s.model->mesh().vertices.size());
-	limits.maxIbsN = std::max(limits.maxIbsN, s.model->params().ibs.n);
-	limits.maxIbsPoints = std::max(limits.maxIbsPoints, s.model->params().ibs.maxPoints);
+	const app::EstimateSettings defaults;
+	EstimatorLimits limits = defaults.limits;
+	app::growLimitsFor(limits, *s.model);
 	PoseEstimator estimator(limits);
 	if (!estimator.valid()) {
 		state.SkipWithError("no arena");
 		return;
 	}
-	EstimatorConfig cfg;
+	EstimatorConfig cfg = defaults.estimator;
 	cfg.iterations = static_cast<int>(state.range(0));
 	cfg.icp = state.range(1) != 0;
+	if (!cfg.icp)
+		cfg.halfTurns.candidates = 0;
 	cfg.frameBudgetMs = static_cast<float>(state.range(2));
 
 	std::vector<double> ms;

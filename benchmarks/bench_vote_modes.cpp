@@ -39,6 +39,7 @@ void BM_FindPoseModes(benchmark::State &state)
 	const std::vector<CastVote> votes = occludedBoxVotes();
 	std::vector<float> scratch(votes.size());
 	std::vector<uint32_t> support(votes.size());
+	std::vector<Eigen::Vector4f> packed(votes.size());
 	std::vector<Eigen::Vector3f> seeds(64);
 	std::vector<PoseMode> modes(36);
 	VoteModeConfig cfg;
@@ -46,7 +47,7 @@ void BM_FindPoseModes(benchmark::State &state)
 	cfg.rotationModesPerCentre = static_cast<int>(state.range(0));
 	const size_t slots = std::min<size_t>(modes.size(), 6 * cfg.rotationModesPerCentre);
 	for (auto _ : state) {
-		size_t found = findPoseModes(votes, cfg, {scratch, seeds, support}, std::span(modes).first(slots));
+		size_t found = findPoseModes(votes, cfg, {scratch, seeds, support, packed}, std::span(modes).first(slots));
 		benchmark::DoNotOptimize(found);
 	}
 }

@@ -72,6 +72,7 @@ bool PoseEstimator::carvePersistent(A &arena)
 	       arenaTake(arena, votes_, count(l.maxVotes)) &&
 	       arenaTake(arena, modeScratch_, count(l.maxVotes)) &&
 	       arenaTake(arena, modeSupport_, count(l.maxVotes)) &&
+	       arenaTake(arena, modePacked_, count(l.maxVotes)) &&
 	       arenaTake(arena, seeds_, count(l.maxModeSeeds)) && arenaTake(arena, modes_, count(l.maxModes)) &&
 	       arenaTake(arena, windowHist_, size_t{1024}) && arenaTake(arena, windows_, size_t{8}) &&
 	       arenaTake(arena, kept_, count(std::max(1, l.maxCandidates)));
@@ -776,7 +777,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 				observer_->onVotes({k, static_cast<int>(pass), cropRotation_,
 						    std::span<const CastVote>(votes_.data(), votes)});
 			size_t modes = findPoseModes(std::span(votes_.data(), votes), modeCfg,
-						     {modeScratch_, seeds_, modeSupport_}, modes_.first(modeSlots));
+						     {modeScratch_, seeds_, modeSupport_, modePacked_}, modes_.first(modeSlots));
 			timer_.lap(Stage::kModes);
 			Hypothesis h = scoreModes(k, modes, vk, model, config);
 			timer_.lap(Stage::kScore);

@@ -294,6 +294,7 @@ private:
 	std::span<CastVote> votes_;
 	std::span<float> modeScratch_;
 	std::span<uint32_t> modeSupport_;
+	std::span<Eigen::Vector4f> modePacked_;
 	std::span<Eigen::Vector3f> seeds_;
 	std::span<PoseMode> modes_;
 	std::span<int> windowHist_;

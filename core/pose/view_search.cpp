@@ -41,9 +41,10 @@ public:
 
 	// Classifies the points at translation t; residuals within the shift
 	// range are written to res when it is not null.
-	Tally tally(const TurnedView &v, const Eigen::Vector3f &t, float *res) const
+	Tally tally(const TurnedView &v, const Eigen::Vector3f &t, float *res, float *all = nullptr) const
 	{
 		Tally k;
+		int compared = 0;
 		for (int i = 0; i < v.n; ++i) {
 			const Eigen::Vector3f &a = v.a[i];
 			const float z = a.z() + t.z();
@@ -63,6 +64,8 @@ public:
 			if (!(o > 0))
 				continue; // no depth: no evidence either way
 			const float e = o - z;
+			if (all)
+				all[compared++] = e;
 			if (res && std::abs(e) < cfg_.maxShiftMm)
 				res[k.residuals++] = e;
 			if (std::abs(e) <= cfg_.inlierMm) {
@@ -116,6 +119,37 @@ public:
 			k = tally(v, t, nullptr);
 		}
 		return k;
+	}
+
+	// aligned() with one projection instead of two: after the move along
+	// the ray every point's depth grows by the same median, so its residual
+	// shrinks by it; the points' pixels, which the move shifts by a pixel at
+	// most, are taken unchanged. For the coarse pass, which only ranks.
+	Tally alignedOnce(const TurnedView &v, Eigen::Vector3f &t, float *res, float *all) const
+	{
+		if (!(cfg_.maxShiftMm > 0))
+			return tally(v, t, nullptr);
+		Tally k = tally(v, t, res, all);
+		if (k.residuals < 8)
+			return k;
+		float *mid = res + k.residuals / 2;
+		std::nth_element(res, mid, res + k.residuals);
+		const float shift = *mid;
+		t *= (t.z() + shift) / t.z();
+		const int compared = k.in + k.out + k.occ;
+		Tally moved;
+		moved.outside = k.outside;
+		for (int i = 0; i < compared; ++i) {
+			const float e = all[i] - shift;
+			if (std::abs(e) <= cfg_.inlierMm) {
+				++moved.in;
+				moved.fit += inlierFit(e, cfg_.inlierMm, cfg_.residualWeight);
+			} else if (e > 0)
+				++moved.out;
+			else
+				++moved.occ;
+		}
+		return moved;
 	}
 
 	float score(const Tally &k, int n) const
@@ -202,13 +236,17 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	// Score of one rotation on the first m of `pts` (already rotated by the
 	// view), at the given and the box-centred translation; t gets the
 	// better one's.
-	auto evaluate = [&](const Eigen::Vector3f *pts, int m, int turn, Eigen::Vector3f &t) {
+	std::array<float, kMaxViewPoints> all;
+	auto align = [&](const TurnedView &tv, Eigen::Vector3f &t, bool coarse) {
+		return coarse ? scorer.alignedOnce(tv, t, res.data(), all.data()) : scorer.aligned(tv, t, res.data());
+	};
+	auto evaluate = [&](const Eigen::Vector3f *pts, int m, int turn, Eigen::Vector3f &t, bool coarse) {
 		const TurnedView tv = turnedView(pts, m, turn);
 		t = t0;
-		float best = scorer.score(scorer.aligned(tv, t, res.data()), m);
+		float best = scorer.score(align(tv, t, coarse), m);
 		if (centring) {
 			Eigen::Vector3f tb = scorer.centred(tv, t0, box);
-			const float sb = scorer.score(scorer.aligned(tv, tb, res.data()), m);
+			const float sb = scorer.score(align(tv, tb, coarse), m);
 			if (sb > best) {
 				best = sb;
 				t = tb;
@@ -298,7 +336,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 			const int m = rotateView(v, 1);
 			for (int turn = 0; turn < config.inplane; ++turn) {
 				Eigen::Vector3f t;
-				const float score = evaluate(rotated.data(), m, turn, t);
+				const float score = evaluate(rotated.data(), m, turn, t, false);
 				propose(v, turn, score, t);
 			}
 		}
@@ -312,7 +350,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		const int m = rotateView(v, stride);
 		for (int turn = 0; turn < config.inplane; ++turn) {
 			Eigen::Vector3f t;
-			const float score = evaluate(rotated.data(), m, turn, t);
+			const float score = evaluate(rotated.data(), m, turn, t, true);
 			if (score <= 0)
 				continue;
 			if (held < static_cast<size_t>(keep)) {
@@ -336,7 +374,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 			rotatedView = heap[i].view;
 		}
 		Eigen::Vector3f t;
-		const float score = evaluate(rotated.data(), m, heap[i].turn, t);
+		const float score = evaluate(rotated.data(), m, heap[i].turn, t, false);
 		propose(heap[i].view, heap[i].turn, score, t);
 	}
 	return finish();

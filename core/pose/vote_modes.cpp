@@ -100,37 +100,67 @@ Eigen::Quaternionf principalQuaternion(const Eigen::Matrix4f &m)
 				  static_cast<float>(y / norm), static_cast<float>(z / norm));
 }
 
-// Votes binned on a grid of cutoff-sized cells, as a list of vote indices
-// sorted by cell key: a mean-shift step visits the 27 cells around x
-// instead of every vote.
+// Votes binned on a grid of cutoff-sized cells, copied in the order of
+// their cell keys into one contiguous array (centre and weight): a
+// mean-shift step visits the 27 cells around x instead of every vote, and
+// reads them without chasing indices (a step visits most of a box's votes,
+// which crowd around the object).
 class VoteGrid
 {
 public:
-	// keys: scratch for one key per vote (floats holding the key's bits:
-	// the workspace's scratch, free until the rotation modes).
-	VoteGrid(std::span<const CastVote> votes, std::span<uint32_t> order, std::span<float> keys, float cell)
-		: votes_(votes), keys_(keys), inv_(1.0f / cell)
+	// order: scratch for the vote order, then the sorted keys; keys:
+	// scratch for one key per vote (floats holding the key's bits: the
+	// workspace's scratch, free until the rotation modes); packed: the
+	// sorted centres and weights.
+	VoteGrid(std::span<const CastVote> votes, std::span<uint32_t> order, std::span<float> keys,
+		 std::span<Eigen::Vector4f> packed, float cell)
+		: inv_(1.0f / cell)
 	{
 		origin_ = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
 		for (const auto &v : votes)
 			if (v.weight > 0)
 				origin_ = origin_.cwiseMin(v.centre);
 		size_t n = 0;
-		for (size_t i = 0; i < votes.size() && n < order.size(); ++i)
+		const size_t room = std::min(order.size(), packed.size());
+		for (size_t i = 0; i < votes.size() && n < room; ++i)
 			if (votes[i].weight > 0)
 				order[n++] = static_cast<uint32_t>(i);
-		order_ = order.first(n);
-		for (uint32_t i : order_)
-			keys_[i] = std::bit_cast<float>(key(votes[i].centre));
-		std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) { return keyOf(a) < keyOf(b); });
+		for (size_t j = 0; j < n; ++j)
+			keys[order[j]] = std::bit_cast<float>(key(votes[order[j]].centre));
+		const auto keyOf = [&](uint32_t i) { return std::bit_cast<uint32_t>(keys[i]); };
+		std::sort(order.begin(), order.begin() + n, [&](uint32_t a, uint32_t b) { return keyOf(a) < keyOf(b); });
+		for (size_t j = 0; j < n; ++j) {
+			const CastVote &v = votes[order[j]];
+			packed[j] = Eigen::Vector4f(v.centre.x(), v.centre.y(), v.centre.z(), v.weight);
+			order[j] = keyOf(order[j]); // each slot read before it is written
+		}
+		keys_ = order.first(n);
+		packed_ = packed.first(n);
 	}
 
 	// Gaussian-weighted mean of the centres around x; returns the kernel mass.
+	// Two phases per row of cells: gather the votes within the cutoff, then
+	// weigh them. The same additions in the same order as one loop, but the
+	// gather runs without a call to exp in it (twice as fast, measured).
 	float meanShiftStep(const Eigen::Vector3f &x, float inv2s2, float cutoff2, Eigen::Vector3f &out) const
 	{
-		Eigen::Vector3f acc = Eigen::Vector3f::Zero();
+		constexpr size_t kBatch = 256;
+		uint32_t near[kBatch];
+		float nearD2[kBatch];
+		float ax = 0, ay = 0, az = 0;
 		float mass = 0;
 		const Eigen::Vector3i c = cellOf(x);
+		const float px = x.x(), py = x.y(), pz = x.z();
+		const auto weigh = [&](size_t count) {
+			for (size_t i = 0; i < count; ++i) {
+				const Eigen::Vector4f &v = packed_[near[i]];
+				const float k = v.w() * std::exp(-nearD2[i] * inv2s2);
+				ax += k * v.x();
+				ay += k * v.y();
+				az += k * v.z();
+				mass += k;
+			}
+		};
 		for (int dz = -1; dz <= 1; ++dz)
 			for (int dy = -1; dy <= 1; ++dy) {
 				// The three cells along x are consecutive keys.
@@ -139,21 +169,27 @@ public:
 					continue;
 				const uint32_t k0 = packed(Eigen::Vector3i(std::max(lo.x(), 0), lo.y(), lo.z()));
 				const uint32_t k1 = packed(Eigen::Vector3i(std::min(c.x() + 1, kMaxCell), lo.y(), lo.z()));
-				auto first = std::lower_bound(order_.begin(), order_.end(), k0,
-							      [&](uint32_t i, uint32_t k) { return keyOf(i) < k; });
-				for (auto it = first; it != order_.end(); ++it) {
-					if (keyOf(*it) > k1)
-						break;
-					const CastVote &v = votes_[*it];
-					const float d2 = squaredDistance(v.centre, x);
-					if (d2 > cutoff2)
-						continue;
-					const float k = v.weight * std::exp(-d2 * inv2s2);
-					acc += k * v.centre;
-					mass += k;
+				const size_t first = static_cast<size_t>(
+					std::lower_bound(keys_.begin(), keys_.end(), k0) - keys_.begin());
+				const size_t last = static_cast<size_t>(
+					std::upper_bound(keys_.begin() + first, keys_.end(), k1) - keys_.begin());
+				size_t count = 0;
+				for (size_t j = first; j < last; ++j) {
+					const Eigen::Vector4f &v = packed_[j];
+					// squaredDistance()'s order of additions.
+					const float ex = v.x() - px, ey = v.y() - py, ez = v.z() - pz;
+					const float d2 = (ex * ex + ey * ey) + ez * ez;
+					near[count] = static_cast<uint32_t>(j);
+					nearD2[count] = d2;
+					count += d2 <= cutoff2;
+					if (count == kBatch) {
+						weigh(count);
+						count = 0;
+					}
 				}
+				weigh(count);
 			}
-		out = mass > 0 ? Eigen::Vector3f(acc / mass) : x;
+		out = mass > 0 ? Eigen::Vector3f(Eigen::Vector3f(ax, ay, az) / mass) : x;
 		return mass;
 	}
 
@@ -175,11 +211,8 @@ private:
 		return packed(cellOf(p).cwiseMax(0).cwiseMin(kMaxCell));
 	}
 
-	uint32_t keyOf(uint32_t vote) const { return std::bit_cast<uint32_t>(keys_[vote]); }
-
-	std::span<const CastVote> votes_;
-	std::span<float> keys_;
-	std::span<uint32_t> order_;
+	std::span<uint32_t> keys_;        // sorted
+	std::span<Eigen::Vector4f> packed_; // x, y, z, weight in key order
 	Eigen::Vector3f origin_;
 	float inv_;
 };
@@ -232,7 +265,7 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 	const size_t centreCap = modes.size() / perCentre;
 	size_t found = 0;
 	const float merge2 = config.mergeDistance * h * config.mergeDistance * h;
-	const VoteGrid grid(votes, ws.support, ws.scratch, cutoff);
+	const VoteGrid grid(votes, ws.support, ws.scratch, ws.packed, cutoff);
 	for (size_t i = 0; i < s; ++i) {
 		Eigen::Vector3f x = ws.seeds[i], next;
 		float mass = 0;

@@ -48,6 +48,7 @@ struct VoteModeWorkspace {
 	std::span<float> scratch; // >= votes
 	std::span<Eigen::Vector3f> seeds; // >= maxSeeds
 	std::span<uint32_t> support; // >= votes (supporting votes of a centre)
+	std::span<Eigen::Vector4f> packed; // >= votes (centres and weights in grid order)
 };
 
 // Writes up to modes.size() modes ranked by translation density, each

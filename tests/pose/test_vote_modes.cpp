@@ -35,10 +35,11 @@ TEST(VoteModes, FindsTheClusterAmongOutliers)
 
 	std::vector<float> scratch(votes.size());
 	std::vector<uint32_t> support(votes.size());
+	std::vector<Eigen::Vector4f> packed(votes.size());
 	std::vector<Eigen::Vector3f> seeds(64);
 	std::vector<PoseMode> modes(4);
 	VoteModeConfig cfg;
-	size_t found = findPoseModes(votes, cfg, {scratch, seeds, support}, modes);
+	size_t found = findPoseModes(votes, cfg, {scratch, seeds, support, packed}, modes);
 	ASSERT_GE(found, 1u);
 	EXPECT_LT((modes[0].centre - centre).norm(), 2.0f);
 	EXPECT_LT(quatAngle(modes[0].rotation, rot), 0.05f);
@@ -64,11 +65,12 @@ TEST(VoteModes, KeepsTwoRotationModesPerCentre)
 	}
 	std::vector<float> scratch(votes.size());
 	std::vector<uint32_t> support(votes.size());
+	std::vector<Eigen::Vector4f> packed(votes.size());
 	std::vector<Eigen::Vector3f> seeds(64);
 	std::vector<PoseMode> modes(8);
 	VoteModeConfig cfg;
 	cfg.rotationModesPerCentre = 2;
-	size_t found = findPoseModes(votes, cfg, {scratch, seeds, support}, modes);
+	size_t found = findPoseModes(votes, cfg, {scratch, seeds, support, packed}, modes);
 	ASSERT_EQ(found, 2u);
 	EXPECT_LT((modes[0].centre - centre).norm(), 1.0f);
 	EXPECT_EQ(modes[0].centre, modes[1].centre);
@@ -78,7 +80,7 @@ TEST(VoteModes, KeepsTwoRotationModesPerCentre)
 
 	// With one rotation mode per centre only the denser one is reported.
 	cfg.rotationModesPerCentre = 1;
-	found = findPoseModes(votes, cfg, {scratch, seeds, support}, modes);
+	found = findPoseModes(votes, cfg, {scratch, seeds, support, packed}, modes);
 	ASSERT_EQ(found, 1u);
 	EXPECT_LT(quatAngle(modes[0].rotation, a), 0.05f);
 }
@@ -104,11 +106,12 @@ TEST(VoteModes, AWeakDistinctRotationAmongNoiseGetsAMode)
 	}
 	std::vector<float> scratch(votes.size());
 	std::vector<uint32_t> support(votes.size());
+	std::vector<Eigen::Vector4f> packed(votes.size());
 	std::vector<Eigen::Vector3f> seeds(64);
 	std::vector<PoseMode> modes(8);
 	VoteModeConfig cfg;
 	cfg.rotationModesPerCentre = 4;
-	size_t found = findPoseModes(votes, cfg, {scratch, seeds, support}, modes);
+	size_t found = findPoseModes(votes, cfg, {scratch, seeds, support, packed}, modes);
 	ASSERT_GE(found, 2u);
 	EXPECT_LT(quatAngle(modes[0].rotation, strong), 0.05f);
 	bool weakFound = false;
@@ -122,10 +125,11 @@ TEST(VoteModes, EmptyAndZeroWeightGiveNoMode)
 	std::vector<CastVote> votes(10, CastVote{Eigen::Vector3f::Zero(), Eigen::Quaternionf::Identity(), 0});
 	std::vector<float> scratch(votes.size());
 	std::vector<uint32_t> support(votes.size());
+	std::vector<Eigen::Vector4f> packed(votes.size());
 	std::vector<Eigen::Vector3f> seeds(8);
 	std::vector<PoseMode> modes(2);
-	EXPECT_EQ(findPoseModes(votes, {}, {scratch, seeds, support}, modes), 0u);
-	EXPECT_EQ(findPoseModes({}, {}, {scratch, seeds, support}, modes), 0u);
+	EXPECT_EQ(findPoseModes(votes, {}, {scratch, seeds, support, packed}, modes), 0u);
+	EXPECT_EQ(findPoseModes({}, {}, {scratch, seeds, support, packed}, modes), 0u);
 }
 
 TEST(VoteModes, QuaternionAverageIsSignInvariant)
