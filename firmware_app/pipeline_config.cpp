@@ -300,6 +300,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	votes.get("rotation_modes", e.rotationModes);
 	votes.get("translation_bandwidth", e.translationBandwidth);
 	votes.get("rotation_bandwidth_deg", e.rotationBandwidthDeg);
+	votes.get("max_shift_votes", e.maxShiftVotes);
 	IHF_SECTION(votes);
 
 	TableReader score(root["score"].as_table(), file, "score");
@@ -385,6 +386,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.depthWindows >= 0 && e.depthWindows <= 8, "refinement.depth_windows"),
 			  inRange(e.maxHypotheses >= 1, "votes.max_hypotheses"),
 			  inRange(e.rotationModes >= 1 && e.rotationModes <= 16, "votes.rotation_modes"),
+			  inRange(e.maxShiftVotes >= 0, "votes.max_shift_votes"),
 			  inRange(e.score.outlierWeight >= 0, "score.outlier_weight"),
 			  inRange(e.score.occludedWeight >= 0, "score.occluded_weight"),
 			  inRange(e.score.residualWeight >= 0 && e.score.residualWeight <= 1, "score.residual_weight"),

@@ -731,6 +731,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	VoteModeConfig modeCfg;
 	modeCfg.translationBandwidth = static_cast<float>(config.translationBandwidth * params.diameter);
 	modeCfg.rotationBandwidth = config.rotationBandwidthDeg * static_cast<float>(M_PI / 180.0);
+	modeCfg.maxShiftVotes = config.maxShiftVotes;
 
 	cropRotation_ = crop->rotation;
 	keptCount_ = 0;

@@ -69,6 +69,7 @@ struct EstimatorConfig {
 	int rotationModes = 3; // rotation modes per translation mode
 	float translationBandwidth = 0.06f; // of the object diameter
 	float rotationBandwidthDeg = 15.0f;
+	int maxShiftVotes = 16384; // translation mean shift on at most this many votes (0: all)
 	int partStride = 0; // 0: the model's training stride
 	int targetParts = 600; // wider stride when a box would give more parts; 0: off
 	bool icp = true;

@@ -112,8 +112,9 @@ public:
 	// scratch for one key per vote (floats holding the key's bits: the
 	// workspace's scratch, free until the rotation modes); packed: the
 	// sorted centres and weights.
+	// Every stride-th positive vote is taken, its weight times stride.
 	VoteGrid(std::span<const CastVote> votes, std::span<uint32_t> order, std::span<float> keys,
-		 std::span<Eigen::Vector4f> packed, float cell)
+		 std::span<Eigen::Vector4f> packed, float cell, size_t stride)
 		: inv_(1.0f / cell)
 	{
 		origin_ = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
@@ -122,8 +123,9 @@ public:
 				origin_ = origin_.cwiseMin(v.centre);
 		size_t n = 0;
 		const size_t room = std::min(order.size(), packed.size());
+		size_t positive = 0;
 		for (size_t i = 0; i < votes.size() && n < room; ++i)
-			if (votes[i].weight > 0)
+			if (votes[i].weight > 0 && positive++ % stride == 0)
 				order[n++] = static_cast<uint32_t>(i);
 		for (size_t j = 0; j < n; ++j)
 			keys[order[j]] = std::bit_cast<float>(key(votes[order[j]].centre));
@@ -131,7 +133,8 @@ public:
 		std::sort(order.begin(), order.begin() + n, [&](uint32_t a, uint32_t b) { return keyOf(a) < keyOf(b); });
 		for (size_t j = 0; j < n; ++j) {
 			const CastVote &v = votes[order[j]];
-			packed[j] = Eigen::Vector4f(v.centre.x(), v.centre.y(), v.centre.z(), v.weight);
+			packed[j] = Eigen::Vector4f(v.centre.x(), v.centre.y(), v.centre.z(),
+						    stride == 1 ? v.weight : v.weight * static_cast<float>(stride));
 			order[j] = keyOf(order[j]); // each slot read before it is written
 		}
 		keys_ = order.first(n);
@@ -265,7 +268,11 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 	const size_t centreCap = modes.size() / perCentre;
 	size_t found = 0;
 	const float merge2 = config.mergeDistance * h * config.mergeDistance * h;
-	const VoteGrid grid(votes, ws.support, ws.scratch, ws.packed, cutoff);
+	const size_t shiftStride =
+		config.maxShiftVotes > 0
+			? (positive + static_cast<size_t>(config.maxShiftVotes) - 1) / static_cast<size_t>(config.maxShiftVotes)
+			: 1;
+	const VoteGrid grid(votes, ws.support, ws.scratch, ws.packed, cutoff, std::max<size_t>(1, shiftStride));
 	for (size_t i = 0; i < s; ++i) {
 		Eigen::Vector3f x = ws.seeds[i], next;
 		float mass = 0;

@@ -129,6 +129,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.depthWindows, b.depthWindows);
 	EXPECT_EQ(a.maxHypotheses, b.maxHypotheses);
 	EXPECT_EQ(a.rotationModes, b.rotationModes);
+	EXPECT_EQ(a.maxShiftVotes, b.maxShiftVotes);
 	EXPECT_EQ(a.icp, b.icp);
 	EXPECT_EQ(a.icpCandidates, b.icpCandidates);
 	EXPECT_EQ(a.targetParts, b.targetParts);
@@ -177,6 +178,7 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[render_mesh]\nmax_error_mm = -1\n", "render_mesh.max_error_mm"},
 		     {"[score]\nresidual_weight = 1.5\n", "score.residual_weight"},
 		     {"[votes]\nrotation_modes = 0\n", "votes.rotation_modes"},
+		     {"[votes]\nmax_shift_votes = -1\n", "votes.max_shift_votes"},
 		     {"[refinement]\npsi1 = 1.1\npsi2 = 1.0\n", "refinement.psi1/psi2"}}) {
 		std::ofstream(dir / "e.toml") << text;
 		auto s = loadEstimateConfig(dir / "e.toml");

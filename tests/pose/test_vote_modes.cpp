@@ -120,6 +120,51 @@ TEST(VoteModes, AWeakDistinctRotationAmongNoiseGetsAMode)
 	EXPECT_TRUE(weakFound);
 }
 
+// A large object's box: 100k votes, 8 % around the centre, the rest spread
+// over its slab. The translation mean shift on an even sixth of them finds
+// the same centre; below the cap nothing changes at all.
+TEST(VoteModes, ShiftOnAStrideOfManyVotesFindsTheSameCentre)
+{
+	std::mt19937_64 rng(5);
+	std::normal_distribution<float> n(0, 1);
+	std::uniform_real_distribution<float> u(-120, 120);
+	const Eigen::Vector3f centre(-12, 25, 950);
+	std::vector<CastVote> votes;
+	for (int i = 0; i < 100000; ++i) {
+		const bool near = i % 25 < 2;
+		const Eigen::Vector3f c = near ? Eigen::Vector3f(centre + 6.0f * Eigen::Vector3f(n(rng), n(rng), n(rng)))
+					       : Eigen::Vector3f(centre + Eigen::Vector3f(u(rng), u(rng), 0.4f * u(rng)));
+		votes.push_back({c, Eigen::Quaternionf::UnitRandom(), 1.0f});
+	}
+	std::vector<float> scratch(votes.size());
+	std::vector<uint32_t> support(votes.size());
+	std::vector<Eigen::Vector4f> packed(votes.size());
+	std::vector<Eigen::Vector3f> seeds(64);
+	VoteModeConfig cfg;
+	cfg.translationBandwidth = 12.0f; // 0.06 of a 200 mm object
+	std::vector<PoseMode> all(4), strided(4), capped(4);
+	cfg.maxShiftVotes = 0;
+	ASSERT_GE(findPoseModes(votes, cfg, {scratch, seeds, support, packed}, all), 1u);
+	cfg.maxShiftVotes = 16384;
+	ASSERT_GE(findPoseModes(votes, cfg, {scratch, seeds, support, packed}, strided), 1u);
+	EXPECT_LT((all[0].centre - centre).norm(), 3.0f);
+	EXPECT_LT((strided[0].centre - all[0].centre).norm(), 2.0f);
+	// Kernel mass of the stand-ins, weighed up: the same density scale.
+	EXPECT_NEAR(strided[0].translationDensity / all[0].translationDensity, 1.0f, 0.15f);
+
+	// Fewer votes than the cap: the very same modes.
+	const std::span<const CastVote> few(votes.data(), 10000);
+	cfg.maxShiftVotes = 0;
+	const size_t a = findPoseModes(few, cfg, {scratch, seeds, support, packed}, all);
+	cfg.maxShiftVotes = 16384;
+	const size_t b = findPoseModes(few, cfg, {scratch, seeds, support, packed}, capped);
+	ASSERT_EQ(a, b);
+	for (size_t m = 0; m < a; ++m) {
+		EXPECT_EQ(all[m].centre, capped[m].centre);
+		EXPECT_EQ(all[m].translationDensity, capped[m].translationDensity);
+	}
+}
+
 TEST(VoteModes, EmptyAndZeroWeightGiveNoMode)
 {
 	std::vector<CastVote> votes(10, CastVote{Eigen::Vector3f::Zero(), Eigen::Quaternionf::Identity(), 0});
