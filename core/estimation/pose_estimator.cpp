@@ -68,7 +68,7 @@ bool PoseEstimator::carvePersistent(A &arena)
 	return arenaTake(arena, observed_, count(l.maxWindowPixels)) &&
 	       arenaTake(arena, active_, count(l.maxActive)) && arenaTake(arena, parts_, count(l.maxParts)) &&
 	       arenaTake(arena, pool_, count(l.maxParts) * count(l.maxPartControlPoints)) &&
-	       arenaTake(arena, hist_, count(l.maxHistogramDims)) &&
+	       arenaTake(arena, hist_, 2 * count(l.maxHistogramDims)) &&
 	       arenaTake(arena, votes_, count(l.maxVotes)) &&
 	       arenaTake(arena, modeScratch_, count(l.maxVotes)) &&
 	       arenaTake(arena, modeSupport_, count(l.maxVotes)) &&
@@ -590,7 +590,7 @@ int PoseEstimator::voteOnce(const CameraIntrinsics &K, const ObjectModel &model,
 				  mmPerUnit, params.hocp);
 	}
 	timer_.lap(Stage::kHocp);
-	std::span<float> hist(hist_.data(), model.forest().dims);
+	std::span<float> hist(hist_.data(), 2 * static_cast<size_t>(model.forest().dims));
 	size_t votes = 0;
 	for (int i = 0; i < partCount; ++i) {
 		const Part &p = parts_[i];
