@@ -68,15 +68,21 @@ public:
 				all[compared++] = e;
 			if (res && std::abs(e) < cfg_.maxShiftMm)
 				res[k.residuals++] = e;
-			if (std::abs(e) <= cfg_.inlierMm) {
-				++k.in;
-				k.fit += inlierFit(e, cfg_.inlierMm, cfg_.residualWeight);
-			} else if (e > 0)
-				++k.out;
-			else
-				++k.occ;
+			classify(k, e);
 		}
 		return k;
+	}
+
+	// One residual (observed - model depth) into the tally.
+	void classify(Tally &k, float e) const
+	{
+		if (std::abs(e) <= cfg_.inlierMm) {
+			++k.in;
+			k.fit += inlierFit(e, cfg_.inlierMm, cfg_.residualWeight);
+		} else if (e > 0)
+			++k.out;
+		else
+			++k.occ;
 	}
 
 	// Translation at t's depth that puts the centre of the points' projected
@@ -139,16 +145,8 @@ public:
 		const int compared = k.in + k.out + k.occ;
 		Tally moved;
 		moved.outside = k.outside;
-		for (int i = 0; i < compared; ++i) {
-			const float e = all[i] - shift;
-			if (std::abs(e) <= cfg_.inlierMm) {
-				++moved.in;
-				moved.fit += inlierFit(e, cfg_.inlierMm, cfg_.residualWeight);
-			} else if (e > 0)
-				++moved.out;
-			else
-				++moved.occ;
-		}
+		for (int i = 0; i < compared; ++i)
+			classify(moved, all[i] - shift);
 		return moved;
 	}
 

@@ -42,6 +42,7 @@ private:
 struct SmallModel {
 	std::unique_ptr<OwnedObjectModel> model;
 	TrainingSetConfig set;
+	std::unique_ptr<TrainingSet> training; // the parts the forest grew from
 };
 
 inline SmallModel trainSmallModel(int objId, uint64_t seed, int viewpoints = 30, int inplane = 3)
@@ -74,6 +75,7 @@ inline SmallModel trainSmallModel(int objId, uint64_t seed, int viewpoints = 30,
 	HoughForest forest = trainForest(fc, metric, set->labels);
 	out.model = std::make_unique<OwnedObjectModel>(params, std::move(*mesh),
 						       ForestStorage(forest, TemplateEncoding::kUint8));
+	out.training = std::make_unique<TrainingSet>(std::move(*set));
 	return out;
 }
 
