@@ -355,6 +355,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	turns.get("axes", e.halfTurns.axes);
 	turns.get("keep", e.halfTurns.keep);
 	turns.get("align", e.halfTurns.align);
+	turns.get("inlier_pivot", e.halfTurns.inlierPivot);
 	IHF_SECTION(turns);
 
 	TableReader render(root["render_mesh"].as_table(), file, "render_mesh");

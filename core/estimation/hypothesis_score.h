@@ -10,6 +10,8 @@
 // hard and occlusion lightly, so a correct pose of a 60% occluded object
 // still scores above a pose laid on the occluder in front of it.
 
+#include <optional>
+
 #include "core/common/image.h"
 #include "core/geometry/camera_intrinsics.h"
 #include "core/geometry/mesh.h"
@@ -69,6 +71,12 @@ struct HypothesisScore {
 
 HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const float> rendered,
 				const ScoreConfig &config);
+
+// The centroid (camera frame) of the rendered surface where it agrees with
+// the observed depth within inlierMm (a hypothesis' inliers); nullopt when
+// fewer than minInliers pixels agree.
+std::optional<Eigen::Vector3d> inlierCentroid(ImageView<const float> observed, ImageView<const float> rendered,
+					       const CameraIntrinsics &K, float inlierMm, int minInliers = 16);
 
 // The box factor above for a pose in the camera `window` whose image is the
 // given box (pixels [0, width) x [0, height)). The projected extent is the

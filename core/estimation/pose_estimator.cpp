@@ -454,21 +454,36 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 		const int64_t start = timer_.last();
 		const std::optional<Eigen::Vector3d> shown = cfg.align ? shownCentroid(sources[c].pose, K, model)
 								      : std::nullopt;
+		std::optional<Eigen::Vector3d> pivot;
+		if (cfg.inlierPivot) {
+			renderView_.fill(0.0f);
+			if (renderer_.render(model.renderMesh(), sources[c].pose, K, renderView_)) {
+				if (const auto inliers = inlierCentroid(observedView_, renderView_, K, config.score.inlierMm))
+					pivot = sources[c].pose.R.transpose() * (*inliers - sources[c].pose.t);
+			}
+		}
 		Hypothesis top[kMaxKeep];
 		int nt = 0;
-		for (int i = 0; i < cfg.axes; ++i) {
+		const auto consider = [&](const Pose &pose) {
+			if (pose.t.z() <= 0)
+				return;
 			Hypothesis h;
-			h.pose = turnedAbout(sources[c].pose, halfTurn(i, cfg.axes), centre);
-			if (shown) {
-				if (const auto turned = shownCentroid(h.pose, K, model))
-					h.pose.t += *shown - *turned;
-			}
-			if (h.pose.t.z() <= 0)
-				continue;
+			h.pose = pose;
 			h.score = score(h.pose, K, model, config);
 			h.iteration = sources[c].iteration;
 			h.valid = true;
 			insertTop(h, top, nt, keepN);
+		};
+		for (int i = 0; i < cfg.axes; ++i) {
+			const Eigen::Matrix3d turn = halfTurn(i, cfg.axes);
+			Pose p = turnedAbout(sources[c].pose, turn, centre);
+			if (shown) {
+				if (const auto turned = shownCentroid(p, K, model))
+					p.t += *shown - *turned;
+			}
+			consider(p);
+			if (pivot)
+				consider(turnedAbout(sources[c].pose, turn, *pivot));
 		}
 		for (int j = 0; j < nt; ++j) {
 			Hypothesis p = config.icp ? polishIcp(top[j], K, model, config, Stage::kHalfTurns) : Hypothesis{};

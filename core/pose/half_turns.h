@@ -23,6 +23,12 @@ struct HalfTurnConfig {
 	int axes = 64;      // half-turn axes over the hemisphere
 	int keep = 2;       // best-scoring turns per candidate that get an ICP polish
 	bool align = true;  // move each turn so the surface it shows sits where the candidate's did
+	// Also turn about the centroid of the candidate's inliers (the model
+	// surface that agrees with the scene): the part of a wrong pose that
+	// fits is where the object is, so a half-turn about it keeps that part
+	// in place. Session 10: the can upside down and 74 mm along its axis
+	// from the truth, which the centroid alignment above misses.
+	bool inlierPivot = true;
 };
 
 inline bool halfTurnsEnabled(const HalfTurnConfig &c) { return c.candidates > 0 && c.axes > 0; }

@@ -155,6 +155,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.halfTurns.axes, b.halfTurns.axes);
 	EXPECT_EQ(a.halfTurns.keep, b.halfTurns.keep);
 	EXPECT_EQ(a.halfTurns.align, b.halfTurns.align);
+	EXPECT_EQ(a.halfTurns.inlierPivot, b.halfTurns.inlierPivot);
 	EXPECT_EQ(none->renderMeshErrorMm, bundled->renderMeshErrorMm);
 	EXPECT_EQ(none->viewTemplates.viewpoints, bundled->viewTemplates.viewpoints);
 	EXPECT_EQ(none->viewTemplates.pointsPerView, bundled->viewTemplates.pointsPerView);
