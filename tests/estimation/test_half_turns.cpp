@@ -6,6 +6,7 @@
 // one also moved along its axis by the turn about its inliers' centroid.
 
 #include <algorithm>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -66,35 +67,58 @@ TEST(HalfTurns, KeepTheCentreInPlaceAndUndoThemselves)
 	}
 }
 
+// The LM-O can seen from the side at 900 mm in front of a wall, and the
+// depth score of any pose of it against that scene.
+class UpsideDownCan : public ::testing::Test
+{
+protected:
+	void SetUp() override
+	{
+		auto loaded = loadPly(test::lmoDir() / "models" / "obj_000005.ply");
+		ASSERT_TRUE(loaded) << loaded.error().message;
+		mesh = std::move(*loaded);
+		truth.R = (Eigen::AngleAxisd(-80 * kDeg, Eigen::Vector3d::UnitX()) *
+			   Eigen::AngleAxisd(30 * kDeg, Eigen::Vector3d::UnitZ())).toRotationMatrix();
+		truth.t = Eigen::Vector3d(0, 0, 900);
+		renderer = std::make_unique<DepthRenderer>(mesh.vertices.size());
+		scene.assign(static_cast<size_t>(K.width) * K.height, 0.0f);
+		view.assign(scene.size(), 0.0f);
+		ASSERT_TRUE(renderer->render(mesh, truth, K, sceneView()));
+		for (float &d : scene)
+			if (!(d > 0))
+				d = 1100.0f; // a wall behind
+	}
+	ImageView<float> sceneView() { return ImageView<float>(scene.data(), K.width, K.height, K.width); }
+	ImageView<float> viewImage() { return ImageView<float>(view.data(), K.width, K.height, K.width); }
+	// Renders p into view.
+	bool renderOf(const Pose &p)
+	{
+		std::fill(view.begin(), view.end(), 0.0f);
+		return static_cast<bool>(renderer->render(mesh, p, K, viewImage()));
+	}
+	float scoreOf(const Pose &p) { return renderOf(p) ? scoreHypothesis(sceneView(), viewImage(), cfg).depthScore : 0.0f; }
+
+	const CameraIntrinsics K{572.4114, 573.57043, 160.0, 120.0, 320, 240};
+	const ScoreConfig cfg;
+	Mesh mesh;
+	Pose truth;
+	std::unique_ptr<DepthRenderer> renderer;
+	std::vector<float> scene, view;
+};
+
+// The axis of half-turn i of count.
+Eigen::Vector3d turnAxis(int i, int count)
+{
+	const Eigen::Matrix3d p = 0.5 * (halfTurn(i, count) + Eigen::Matrix3d::Identity());
+	return (p.col(0).norm() > 0.5 ? p.col(0) : (p.col(1).norm() > 0.5 ? p.col(1) : p.col(2))).normalized();
+}
+
 // The can seen from the side, then the same pose turned 180 deg about its
 // own horizontal axis (upside down): among the 64 half-turns of the wrong
 // pose, the best by the depth score is within a few degrees of the truth
 // and scores near the truth's own score.
-TEST(HalfTurns, TheBestTurnOfAnUpsideDownCanIsTheTruth)
+TEST_F(UpsideDownCan, TheBestTurnOfAnUpsideDownCanIsTheTruth)
 {
-	auto loaded = loadPly(test::lmoDir() / "models" / "obj_000005.ply");
-	ASSERT_TRUE(loaded) << loaded.error().message;
-	const Mesh &mesh = *loaded;
-	const CameraIntrinsics K{572.4114, 573.57043, 160.0, 120.0, 320, 240};
-	Pose truth;
-	truth.R = (Eigen::AngleAxisd(-80 * kDeg, Eigen::Vector3d::UnitX()) *
-		   Eigen::AngleAxisd(30 * kDeg, Eigen::Vector3d::UnitZ())).toRotationMatrix();
-	truth.t = Eigen::Vector3d(0, 0, 900);
-	DepthRenderer renderer(mesh.vertices.size());
-	std::vector<float> scene(static_cast<size_t>(K.width) * K.height, 0.0f), view(scene.size());
-	ImageView<float> sceneView(scene.data(), K.width, K.height, K.width);
-	ASSERT_TRUE(renderer.render(mesh, truth, K, sceneView));
-	for (float &d : scene)
-		if (!(d > 0))
-			d = 1100.0f; // a wall behind
-	const ScoreConfig cfg;
-	auto scoreOf = [&](const Pose &p) {
-		std::fill(view.begin(), view.end(), 0.0f);
-		ImageView<float> v(view.data(), K.width, K.height, K.width);
-		if (!renderer.render(mesh, p, K, v))
-			return 0.0f;
-		return scoreHypothesis(sceneView, v, cfg).depthScore;
-	};
 	const Eigen::Vector3d centre = boundingBox(mesh).centre().cast<double>();
 	// Upside down: a half-turn about the model's x axis tilted by 10 deg,
 	// which is none of the 64 axes.
@@ -115,11 +139,8 @@ TEST(HalfTurns, TheBestTurnOfAnUpsideDownCanIsTheTruth)
 	// Two half-turns about axes d apart compose to a turn by 2 d: one of
 	// the two is as near the truth as the axis nearest the flip allows.
 	double nearest = M_PI;
-	for (int i = 0; i < 64; ++i) {
-		const Eigen::Matrix3d p = 0.5 * (halfTurn(i, 64) + Eigen::Matrix3d::Identity());
-		const Eigen::Vector3d a = (p.col(0).norm() > 0.5 ? p.col(0) : (p.col(1).norm() > 0.5 ? p.col(1) : p.col(2))).normalized();
-		nearest = std::min(nearest, std::acos(std::min(1.0, std::abs(a.dot(flipAxis)))));
-	}
+	for (int i = 0; i < 64; ++i)
+		nearest = std::min(nearest, std::acos(std::min(1.0, std::abs(turnAxis(i, 64).dot(flipAxis)))));
 	const double err = std::min(rotationAngle(turns[0].second.R, truth.R), rotationAngle(turns[1].second.R, truth.R));
 	EXPECT_LT(err, 2 * nearest + 1 * kDeg) << nearest / kDeg;
 	// The turns keep the centre, which the truth shares.
@@ -131,47 +152,22 @@ TEST(HalfTurns, TheBestTurnOfAnUpsideDownCanIsTheTruth)
 // (0, 0, -37) rather than the centre. Turns about the centre stay ~74 mm
 // off, beyond ICP's reach; turns about the centroid of the wrong pose's
 // inliers (where it agrees with the scene) come back near the truth.
-TEST(HalfTurns, TurnsAboutTheInliersBringBackACanMovedAlongItsAxis)
+TEST_F(UpsideDownCan, TurnsAboutTheInliersBringBackACanMovedAlongItsAxis)
 {
-	auto loaded = loadPly(test::lmoDir() / "models" / "obj_000005.ply");
-	ASSERT_TRUE(loaded) << loaded.error().message;
-	const Mesh &mesh = *loaded;
-	const CameraIntrinsics K{572.4114, 573.57043, 160.0, 120.0, 320, 240};
-	Pose truth;
-	truth.R = (Eigen::AngleAxisd(-80 * kDeg, Eigen::Vector3d::UnitX()) *
-		   Eigen::AngleAxisd(30 * kDeg, Eigen::Vector3d::UnitZ())).toRotationMatrix();
-	truth.t = Eigen::Vector3d(0, 0, 900);
-	DepthRenderer renderer(mesh.vertices.size());
-	std::vector<float> scene(static_cast<size_t>(K.width) * K.height, 0.0f), view(scene.size());
-	ImageView<float> sceneView(scene.data(), K.width, K.height, K.width);
-	ASSERT_TRUE(renderer.render(mesh, truth, K, sceneView));
-	for (float &d : scene)
-		if (!(d > 0))
-			d = 1100.0f;
-	const ScoreConfig cfg;
-	ImageView<float> v(view.data(), K.width, K.height, K.width);
-	auto renderOf = [&](const Pose &p) {
-		std::fill(view.begin(), view.end(), 0.0f);
-		return static_cast<bool>(renderer.render(mesh, p, K, v));
-	};
-	auto scoreOf = [&](const Pose &p) { return renderOf(p) ? scoreHypothesis(sceneView, v, cfg).depthScore : 0.0f; };
 	// Upside down about the grid axis nearest the horizontal (the grid's
 	// spacing is the other test's subject; this one is the pivot's).
 	int flipIndex = 0;
 	double lowest = 2;
-	for (int i = 0; i < 64; ++i) {
-		const Eigen::Matrix3d p = 0.5 * (halfTurn(i, 64) + Eigen::Matrix3d::Identity());
-		const Eigen::Vector3d a = (p.col(0).norm() > 0.5 ? p.col(0) : (p.col(1).norm() > 0.5 ? p.col(1) : p.col(2))).normalized();
-		if (std::abs(a.z()) < lowest) {
-			lowest = std::abs(a.z());
+	for (int i = 0; i < 64; ++i)
+		if (std::abs(turnAxis(i, 64).z()) < lowest) {
+			lowest = std::abs(turnAxis(i, 64).z());
 			flipIndex = i;
 		}
-	}
 	const Pose wrong = turnedAbout(truth, halfTurn(flipIndex, 64), Eigen::Vector3d(0, 0, -37));
 	ASSERT_GT((wrong.t - truth.t).norm(), 70.0);
 	const Eigen::Vector3d centre = boundingBox(mesh).centre().cast<double>();
 	ASSERT_TRUE(renderOf(wrong));
-	const auto inliers = inlierCentroid(sceneView, v, K, cfg.inlierMm);
+	const auto inliers = inlierCentroid(sceneView(), viewImage(), K, cfg.inlierMm);
 	ASSERT_TRUE(inliers.has_value());
 	const Eigen::Vector3d pivot = wrong.R.transpose() * (*inliers - wrong.t);
 	// The best two of 64 turns (the estimator polishes keep = 2) about each
