@@ -384,8 +384,7 @@ template <typename F>
 bool PoseEstimator::forEachShownPoint(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model,
 				      F &&f)
 {
-	renderView_.fill(0.0f);
-	if (!renderer_.render(model.renderMesh(), pose, K, renderView_))
+	if (!renderPose(pose, K, model))
 		return false;
 	for (int y = 0; y < renderView_.height; ++y)
 		for (int x = 0; x < renderView_.width; ++x) {
@@ -456,8 +455,7 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 								      : std::nullopt;
 		std::optional<Eigen::Vector3d> pivot;
 		if (cfg.inlierPivot) {
-			renderView_.fill(0.0f);
-			if (renderer_.render(model.renderMesh(), sources[c].pose, K, renderView_)) {
+			if (renderPose(sources[c].pose, K, model)) {
 				if (const auto inliers = inlierCentroid(observedView_, renderView_, K, config.score.inlierMm))
 					pivot = sources[c].pose.R.transpose() * (*inliers - sources[c].pose.t);
 			}
@@ -618,11 +616,16 @@ int PoseEstimator::voteOnce(const CameraIntrinsics &K, const ObjectModel &model,
 	return static_cast<int>(votes);
 }
 
+bool PoseEstimator::renderPose(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model)
+{
+	renderView_.fill(0.0f);
+	return static_cast<bool>(renderer_.render(model.renderMesh(), pose, K, renderView_));
+}
+
 HypothesisScore PoseEstimator::score(const Pose &pose, const CameraIntrinsics &K,
 				     const ObjectModel &model, const EstimatorConfig &config)
 {
-	renderView_.fill(0.0f);
-	if (!renderer_.render(model.renderMesh(), pose, K, renderView_))
+	if (!renderPose(pose, K, model))
 		return {};
 	HypothesisScore s = scoreHypothesis(observedView_, renderView_, config.score);
 	s.boxFactor = boxAgreement(model.renderMesh(), pose, K, config.score, openSides_);

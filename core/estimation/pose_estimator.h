@@ -239,6 +239,9 @@ private:
 	Hypothesis searchHalfTurns(const CameraIntrinsics &K, const ObjectModel &model,
 				   const EstimatorConfig &config, std::span<const Hypothesis> polished,
 				   const Hypothesis &best);
+	// The pose rendered with the model's render mesh into renderView_ (cleared
+	// first); false if the render failed.
+	bool renderPose(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model);
 	template <typename F>
 	bool forEachShownPoint(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model, F &&f);
 	std::optional<Eigen::Vector3d> shownCentroid(const Pose &pose, const CameraIntrinsics &K,

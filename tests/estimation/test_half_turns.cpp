@@ -97,6 +97,19 @@ protected:
 		return static_cast<bool>(renderer->render(mesh, p, K, viewImage()));
 	}
 	float scoreOf(const Pose &p) { return renderOf(p) ? scoreHypothesis(sceneView(), viewImage(), cfg).depthScore : 0.0f; }
+	// The 64 half-turns of `from` about the model point `about`, the two
+	// best-scoring first (the estimator polishes keep = 2).
+	std::vector<std::pair<float, Pose>> bestTwoTurns(const Pose &from, const Eigen::Vector3d &about)
+	{
+		std::vector<std::pair<float, Pose>> turns;
+		for (int i = 0; i < 64; ++i) {
+			const Pose q = turnedAbout(from, halfTurn(i, 64), about);
+			turns.emplace_back(scoreOf(q), q);
+		}
+		std::partial_sort(turns.begin(), turns.begin() + 2, turns.end(),
+				  [](const auto &x, const auto &y) { return x.first > y.first; });
+		return turns;
+	}
 
 	const CameraIntrinsics K{572.4114, 573.57043, 160.0, 120.0, 320, 240};
 	const ScoreConfig cfg;
@@ -126,14 +139,7 @@ TEST_F(UpsideDownCan, TheBestTurnOfAnUpsideDownCanIsTheTruth)
 	const Pose wrong = turnedAbout(truth, Eigen::AngleAxisd(M_PI, flipAxis).toRotationMatrix(), centre);
 	const float truthScore = scoreOf(truth), wrongScore = scoreOf(wrong);
 	ASSERT_GT(truthScore, 0.9f);
-	// The estimator polishes the two best-scoring turns (keep = 2).
-	std::vector<std::pair<float, Pose>> turns;
-	for (int i = 0; i < 64; ++i) {
-		const Pose q = turnedAbout(wrong, halfTurn(i, 64), centre);
-		turns.emplace_back(scoreOf(q), q);
-	}
-	std::partial_sort(turns.begin(), turns.begin() + 2, turns.end(),
-			  [](const auto &x, const auto &y) { return x.first > y.first; });
+	const auto turns = bestTwoTurns(wrong, centre);
 	EXPECT_LT(wrongScore, truthScore - 0.2f);
 	EXPECT_GT(turns[0].first, wrongScore + 0.1f);
 	// Two half-turns about axes d apart compose to a turn by 2 d: one of
@@ -173,13 +179,7 @@ TEST_F(UpsideDownCan, TurnsAboutTheInliersBringBackACanMovedAlongItsAxis)
 	// The best two of 64 turns (the estimator polishes keep = 2) about each
 	// pivot: the nearest of them to the truth.
 	auto nearestOfBestTwo = [&](const Eigen::Vector3d &about, double &rotErr) {
-		std::vector<std::pair<float, Pose>> turns;
-		for (int i = 0; i < 64; ++i) {
-			const Pose q = turnedAbout(wrong, halfTurn(i, 64), about);
-			turns.emplace_back(scoreOf(q), q);
-		}
-		std::partial_sort(turns.begin(), turns.begin() + 2, turns.end(),
-				  [](const auto &x, const auto &y) { return x.first > y.first; });
+		const auto turns = bestTwoTurns(wrong, about);
 		double best = 1e9;
 		rotErr = M_PI;
 		for (int j = 0; j < 2; ++j)
