@@ -31,6 +31,7 @@ struct EstimateOptions {
 	std::string statsJson;
 	int iterations = -1;
 	double budgetMs = -1;
+	int threads = -1;
 	bool noIcp = false;
 	bool noViews = false;
 	bool noHalfTurns = false;
@@ -118,6 +119,8 @@ int runEstimate(const EstimateOptions &o)
 		s.estimator.halfTurns.candidates = 0;
 	if (o.budgetMs >= 0)
 		s.estimator.frameBudgetMs = static_cast<float>(o.budgetMs);
+	if (o.threads >= 0)
+		s.limits.threads = o.threads;
 
 	std::map<int, std::unique_ptr<ObjectModel>> models;
 	for (const auto &spec : o.forests) {
@@ -319,6 +322,9 @@ void addEstimateCommand(CLI::App &root, Action &action)
 	cmd->add_option("--budget-ms", opts->budgetMs,
 			"Time budget per frame in ms, shared by its boxes (0: unlimited; default from the config, 33)")
 		->check(CLI::Range(0.0, 1e6));
+	cmd->add_option("--threads", opts->threads,
+			"Threads of a box's view search, the caller included (0: one per core; default from the config)")
+		->check(CLI::Range(0, WorkerPool::kMaxThreads));
 	cmd->add_option("--stats-json", opts->statsJson,
 			"Also write the per-stage times, budget counters and arena use as JSON");
 	cmd->add_flag("--quiet", opts->quiet, "Do not report per-box failures");

@@ -379,6 +379,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	lim.get("max_modes", s.limits.maxModes);
 	lim.get("max_mode_seeds", s.limits.maxModeSeeds);
 	lim.get("max_candidates", s.limits.maxCandidates);
+	lim.get("threads", s.limits.threads);
 	IHF_SECTION(lim);
 
 	const auto inRange = [&](bool ok, const char *key) { return rangeCheck(ok, file, key); };
@@ -418,7 +419,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.halfTurns.axes >= 0 && e.halfTurns.axes <= 1024, "half_turns.axes"),
 			  inRange(e.halfTurns.keep >= 1 && e.halfTurns.keep <= 4, "half_turns.keep"),
 			  inRange(s.renderMeshErrorMm >= 0 && s.renderMeshErrorMm <= 20, "render_mesh.max_error_mm"),
-			  inRange(e.frameBudgetMs >= 0, "budget.frame_ms")})
+			  inRange(e.frameBudgetMs >= 0, "budget.frame_ms"),
+			  inRange(s.limits.threads >= 0 && s.limits.threads <= WorkerPool::kMaxThreads, "limits.threads")})
 		if (!st)
 			return st.error();
 	return s;

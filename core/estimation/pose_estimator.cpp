@@ -2,6 +2,7 @@
 #include "core/estimation/pose_estimator.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -68,20 +69,26 @@ bool PoseEstimator::carvePersistent(A &arena)
 	return arenaTake(arena, observed_, count(l.maxWindowPixels)) &&
 	       arenaTake(arena, active_, count(l.maxActive)) && arenaTake(arena, parts_, count(l.maxParts)) &&
 	       arenaTake(arena, pool_, count(l.maxParts) * count(l.maxPartControlPoints)) &&
-	       arenaTake(arena, hist_, 2 * count(l.maxHistogramDims)) &&
+	       arenaTake(arena, hist_, 2 * count(l.maxHistogramDims) * WorkerPool::resolve(l.threads)) &&
 	       arenaTake(arena, votes_, count(l.maxVotes)) &&
 	       arenaTake(arena, modeScratch_, count(l.maxVotes)) &&
 	       arenaTake(arena, modeSupport_, count(l.maxVotes)) &&
 	       arenaTake(arena, modePacked_, count(l.maxVotes)) &&
+	       arenaTake(arena, modeThreadScratch_, (WorkerPool::resolve(l.threads) - 1) * count(l.maxVotes)) &&
+	       arenaTake(arena, modeThreadSupport_, (WorkerPool::resolve(l.threads) - 1) * count(l.maxVotes)) &&
 	       arenaTake(arena, seeds_, count(l.maxModeSeeds)) && arenaTake(arena, modes_, count(l.maxModes)) &&
 	       arenaTake(arena, windowHist_, size_t{1024}) && arenaTake(arena, windows_, size_t{8}) &&
+	       arenaTake(arena, viewHeaps_, viewSearchHeapSize(WorkerPool::resolve(l.threads))) &&
+	       arenaTake(arena, viewFine_, size_t{kMaxCoarseKeep}) &&
 	       arenaTake(arena, kept_, count(std::max(1, l.maxCandidates)));
 }
 
 template<typename A>
 bool PoseEstimator::carveBox(A &arena, size_t pixels)
 {
-	return arenaTake(arena, working_, pixels) && arenaTake(arena, render_, pixels) &&
+	// One render buffer per pool thread.
+	return arenaTake(arena, working_, pixels) &&
+	       arenaTake(arena, render_, pixels * static_cast<size_t>(WorkerPool::resolve(limits_.threads))) &&
 	       arenaTake(arena, cloud_, pixels) && arenaTake(arena, unit_, pixels) &&
 	       arenaTake(arena, normals_, pixels);
 }
@@ -95,7 +102,8 @@ size_t PoseEstimator::arenaBytes(const EstimatorLimits &limits)
 	scratch.carvePersistent(sizer);
 	scratch.carveBox(sizer, count(limits.maxWindowPixels));
 	return sizer.bytes + IbsFitter::arenaBytes(ibsLimits(limits)) +
-	       PartExtractor::arenaBytes(partLimits(limits)) + DepthRenderer::arenaBytes(limits.maxMeshVertices);
+	       PartExtractor::arenaBytes(partLimits(limits)) +
+	       DepthRenderer::arenaBytes(limits.maxMeshVertices) * static_cast<size_t>(WorkerPool::resolve(limits.threads));
 }
 
 PoseEstimator::PoseEstimator(const EstimatorLimits &limits, const Clock *clock, int)
@@ -104,7 +112,7 @@ PoseEstimator::PoseEstimator(const EstimatorLimits &limits, const Clock *clock, 
 }
 
 PoseEstimator::PoseEstimator(const EstimatorLimits &limits, const Clock *clock)
-	: limits_(limits), timer_(clock ? *clock : steadyClock_)
+	: limits_(limits), workers_(limits.threads), timer_(clock ? *clock : steadyClock_)
 {
 	auto arena = Arena::create(arenaBytes(limits));
 	if (!arena)
@@ -113,6 +121,8 @@ PoseEstimator::PoseEstimator(const EstimatorLimits &limits, const Clock *clock)
 	valid_ = fitter_.reserve(ibsLimits(limits), arena_).ok() &&
 		 extractor_.reserve(partLimits(limits), arena_).ok() &&
 		 renderer_.reserve(limits.maxMeshVertices, arena_).ok() && carvePersistent(arena_);
+	for (int t = 1; t < workers_.threads() && valid_; ++t)
+		valid_ = moreRenderers_[static_cast<size_t>(t - 1)].reserve(limits.maxMeshVertices, arena_).ok();
 	persistentBytes_ = arena_.used();
 }
 
@@ -327,11 +337,17 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	auto searchAt = [&](const Eigen::Vector3d &centre, float anchor, const char *stage) {
 		const int64_t start = timer_.last();
 		const size_t n = searchViews(model.viewTemplates(), vc, observedView_, K, centre,
-					     std::span<ViewProposal>(top, keepN), axes, anchor);
+					     std::span<ViewProposal>(top, keepN), axes, anchor, &workers_,
+					     ViewSearchWorkspace{viewHeaps_, viewFine_});
+		Pose poses[kMaxKeep];
+		HypothesisScore scores[kMaxKeep];
+		for (size_t j = 0; j < n; ++j)
+			poses[j] = top[j].pose;
+		scoreAll(std::span<const Pose>(poses, n), std::span<HypothesisScore>(scores, n), K, model, config);
 		for (size_t j = 0; j < n; ++j) {
 			Hypothesis h;
 			h.pose = top[j].pose;
-			h.score = score(h.pose, K, model, config);
+			h.score = scores[j];
 			h.iteration = config.iterations + 1;
 			h.valid = true;
 			report(h.iteration, stage, static_cast<int>(j), h.pose, h.score, top[j].score);
@@ -382,13 +398,14 @@ PoseEstimator::Hypothesis PoseEstimator::polishIcp(const Hypothesis &h, const Ca
 // back-projected (camera frame); false if the render failed.
 template <typename F>
 bool PoseEstimator::forEachShownPoint(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model,
-				      F &&f)
+				      F &&f, int slot)
 {
-	if (!renderPose(pose, K, model))
+	if (!renderPose(pose, K, model, slot))
 		return false;
-	for (int y = 0; y < renderView_.height; ++y)
-		for (int x = 0; x < renderView_.width; ++x) {
-			const float z = renderView_.at(x, y);
+	const ImageView<float> &view = renderViewOf(slot);
+	for (int y = 0; y < view.height; ++y)
+		for (int x = 0; x < view.width; ++x) {
+			const float z = view.at(x, y);
 			if (z > 0)
 				f(K.backProject(x, y, z));
 		}
@@ -401,14 +418,18 @@ bool PoseEstimator::forEachShownPoint(const Pose &pose, const CameraIntrinsics &
 // 70 mm); moving the turn by the difference puts it back where the
 // hypothesis saw it.
 std::optional<Eigen::Vector3d> PoseEstimator::shownCentroid(const Pose &pose, const CameraIntrinsics &K,
-							    const ObjectModel &model)
+							    const ObjectModel &model, int slot)
 {
 	Eigen::Vector3d sum = Eigen::Vector3d::Zero();
 	int n = 0;
-	if (!forEachShownPoint(pose, K, model, [&](const Eigen::Vector3d &p) {
-		    sum += p;
-		    ++n;
-	    }) || n == 0)
+	if (!forEachShownPoint(
+		    pose, K, model,
+		    [&](const Eigen::Vector3d &p) {
+			    sum += p;
+			    ++n;
+		    },
+		    slot) ||
+	    n == 0)
 		return std::nullopt;
 	return sum / n;
 }
@@ -462,26 +483,36 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 		}
 		Hypothesis top[kMaxKeep];
 		int nt = 0;
-		const auto consider = [&](const Pose &pose) {
-			if (pose.t.z() <= 0)
+		// The turns of a round of axes are posed and scored side by side on
+		// the pool's threads (each with its own render), then ranked in
+		// axis order as one thread would.
+		constexpr int kRound = 32;
+		Hypothesis turns[2 * kRound];
+		const auto consider = [&](Hypothesis &h, const Pose &pose, int slot) {
+			h.valid = pose.t.z() > 0;
+			if (!h.valid)
 				return;
-			Hypothesis h;
 			h.pose = pose;
-			h.score = score(h.pose, K, model, config);
+			h.score = score(h.pose, K, model, config, slot);
 			h.iteration = sources[c].iteration;
-			h.valid = true;
-			insertTop(h, top, nt, keepN);
 		};
-		for (int i = 0; i < cfg.axes; ++i) {
-			const Eigen::Matrix3d turn = halfTurn(i, cfg.axes);
-			Pose p = turnedAbout(sources[c].pose, turn, centre);
-			if (shown) {
-				if (const auto turned = shownCentroid(p, K, model))
-					p.t += *shown - *turned;
-			}
-			consider(p);
-			if (pivot)
-				consider(turnedAbout(sources[c].pose, turn, *pivot));
+		for (int i0 = 0; i0 < cfg.axes; i0 += kRound) {
+			const int na = std::min(kRound, cfg.axes - i0);
+			workers_.run(na, [&](int k, int slot) {
+				const Eigen::Matrix3d turn = halfTurn(i0 + k, cfg.axes);
+				Pose p = turnedAbout(sources[c].pose, turn, centre);
+				if (shown) {
+					if (const auto turned = shownCentroid(p, K, model, slot))
+						p.t += *shown - *turned;
+				}
+				consider(turns[2 * k], p, slot);
+				turns[2 * k + 1].valid = false;
+				if (pivot)
+					consider(turns[2 * k + 1], turnedAbout(sources[c].pose, turn, *pivot), slot);
+			});
+			for (int k = 0; k < 2 * na; ++k)
+				if (turns[k].valid)
+					insertTop(turns[k], top, nt, keepN);
 		}
 		for (int j = 0; j < nt; ++j) {
 			Hypothesis p = config.icp ? polishIcp(top[j], K, model, config, Stage::kHalfTurns) : Hypothesis{};
@@ -603,31 +634,84 @@ int PoseEstimator::voteOnce(const CameraIntrinsics &K, const ObjectModel &model,
 				  mmPerUnit, params.hocp);
 	}
 	timer_.lap(Stage::kHocp);
-	std::span<float> hist(hist_.data(), 2 * static_cast<size_t>(model.forest().dims));
+	const size_t histSize = 2 * static_cast<size_t>(model.forest().dims);
+	// Parts [i0, i1) walked in order, their votes appended to out.
+	auto walk = [&](int i0, int i1, std::span<float> hist, std::span<CastVote> out) {
+		size_t n = 0;
+		for (int i = i0; i < i1; ++i) {
+			const Part &p = parts_[i];
+			std::span<const PartCp> cps(pool_.data() + p.cpOffset, p.cpCount);
+			n = castPartVotes(model.forest(), cps, p.centreCamera, params.hocp, params.depthCheckMarginMm,
+					  hist, out, n);
+		}
+		return n;
+	};
+	// Several threads: each walks a contiguous share of the parts into its
+	// share of the vote buffer, and the shares are then joined in part order:
+	// the votes of one thread, unless a share filled up (then one thread
+	// again, which truncates where one thread always did).
+	const int threads = workers_.threads();
 	size_t votes = 0;
-	for (int i = 0; i < partCount; ++i) {
-		const Part &p = parts_[i];
-		std::span<const PartCp> cps(pool_.data() + p.cpOffset, p.cpCount);
-		votes = castPartVotes(model.forest(), cps, p.centreCamera, params.hocp,
-				      params.depthCheckMarginMm, hist, votes_, votes);
+	bool joined = false;
+	if (threads > 1 && partCount >= 2 * threads && hist_.size() >= histSize * static_cast<size_t>(threads)) {
+		const size_t share = votes_.size() / static_cast<size_t>(threads);
+		std::array<size_t, WorkerPool::kMaxThreads> counts{};
+		workers_.run(threads, [&](int c, int thread) {
+			counts[static_cast<size_t>(c)] =
+				walk(partCount * c / threads, partCount * (c + 1) / threads,
+				     hist_.subspan(static_cast<size_t>(thread) * histSize, histSize),
+				     votes_.subspan(static_cast<size_t>(c) * share, share));
+		});
+		joined = std::all_of(counts.begin(), counts.begin() + threads, [&](size_t n) { return n < share; });
+		if (joined) {
+			votes = counts[0]; // the first share is in place
+			for (int c = 1; c < threads; ++c) {
+				const auto from = votes_.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(c) * share);
+				std::copy(from, from + static_cast<std::ptrdiff_t>(counts[static_cast<size_t>(c)]),
+					  votes_.begin() + static_cast<std::ptrdiff_t>(votes));
+				votes += counts[static_cast<size_t>(c)];
+			}
+		}
 	}
+	if (!joined)
+		votes = walk(0, partCount, hist_.first(histSize), votes_);
 	timer_.lap(Stage::kForest);
 	peaks_.votes = std::max(peaks_.votes, static_cast<int>(votes));
 	return static_cast<int>(votes);
 }
 
-bool PoseEstimator::renderPose(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model)
+bool PoseEstimator::renderPose(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model, int slot)
 {
-	renderView_.fill(0.0f);
-	return static_cast<bool>(renderer_.render(model.renderMesh(), pose, K, renderView_));
+	ImageView<float> &view = renderViewOf(slot);
+	view.fill(0.0f);
+	return static_cast<bool>(rendererOf(slot).render(model.renderMesh(), pose, K, view));
+}
+
+void PoseEstimator::setRenderViews(int w, int h)
+{
+	const size_t pixels = static_cast<size_t>(w) * h;
+	renderView_ = ImageView<float>(render_.data(), w, h, w);
+	for (int t = 1; t < workers_.threads(); ++t)
+		moreRenderViews_[static_cast<size_t>(t - 1)] =
+			ImageView<float>(render_.data() + pixels * static_cast<size_t>(t), w, h, w);
+}
+
+void PoseEstimator::scoreAll(std::span<const Pose> poses, std::span<HypothesisScore> scores,
+			     const CameraIntrinsics &K, const ObjectModel &model, const EstimatorConfig &config)
+{
+	workers_.run(static_cast<int>(poses.size()), [&](int i, int thread) {
+		const Pose &pose = poses[static_cast<size_t>(i)];
+		// Behind the camera: nothing to render (callers skip those).
+		scores[static_cast<size_t>(i)] = pose.t.z() > 0 ? score(pose, K, model, config, thread) : HypothesisScore{};
+	});
 }
 
 HypothesisScore PoseEstimator::score(const Pose &pose, const CameraIntrinsics &K,
-				     const ObjectModel &model, const EstimatorConfig &config)
+				     const ObjectModel &model, const EstimatorConfig &config, int slot)
 {
-	if (!renderPose(pose, K, model))
+	if (!renderPose(pose, K, model, slot))
 		return {};
-	HypothesisScore s = scoreHypothesis(observedView_, renderView_, config.score);
+	HypothesisScore s = scoreHypothesis(observedView_, renderViewOf(slot), config.score);
 	s.boxFactor = boxAgreement(model.renderMesh(), pose, K, config.score, openSides_);
 	s.score = s.depthScore * s.boxFactor;
 	return s;
@@ -641,13 +725,25 @@ PoseEstimator::Hypothesis PoseEstimator::scoreModes(int iteration, size_t modeCo
 {
 	Hypothesis best;
 	const float same = static_cast<float>(0.05 * model.params().diameter);
+	// Scored side by side on the pool's threads, then kept in mode order.
+	constexpr size_t kRound = 32;
+	Pose poses[kRound];
+	HypothesisScore scores[kRound];
 	for (size_t m = 0; m < modeCount; ++m) {
+		const size_t k = m % kRound;
+		if (k == 0) {
+			const size_t n = std::min(kRound, modeCount - m);
+			for (size_t j = 0; j < n; ++j) {
+				poses[j].R = modes_[m + j].rotation.toRotationMatrix().cast<double>();
+				poses[j].t = modes_[m + j].centre.cast<double>();
+			}
+			scoreAll(std::span<const Pose>(poses, n), std::span<HypothesisScore>(scores, n), K, model, config);
+		}
 		Hypothesis h;
-		h.pose.R = modes_[m].rotation.toRotationMatrix().cast<double>();
-		h.pose.t = modes_[m].centre.cast<double>();
+		h.pose = poses[k];
 		if (h.pose.t.z() <= 0)
 			continue;
-		h.score = score(h.pose, K, model, config);
+		h.score = scores[k];
 		h.iteration = iteration;
 		h.valid = true;
 		report(iteration, "mode", static_cast<int>(m), h.pose, h.score, modes_[m].rotationDensity);
@@ -679,7 +775,7 @@ Expected<HypothesisScore> PoseEstimator::scorePose(ImageView<const float> depth,
 	if (!carveBox(arena_, static_cast<size_t>(vk.width) * vk.height))
 		return makeError(Errc::kCapacity, "arena too small for the box");
 	observedView_ = ImageView<float>(observed_.data(), vk.width, vk.height, vk.width);
-	renderView_ = ImageView<float>(render_.data(), vk.width, vk.height, vk.width);
+	setRenderViews(vk.width, vk.height);
 	Pose virt;
 	virt.R = crop.rotation.transpose() * pose.R;
 	virt.t = crop.rotation.transpose() * pose.t;
@@ -742,7 +838,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	}
 	observedView_ = ImageView<float>(observed_.data(), w, h, w);
 	workingView_ = ImageView<float>(working_.data(), w, h, w);
-	renderView_ = ImageView<float>(render_.data(), w, h, w);
+	setRenderViews(w, h);
 	std::copy_n(observed_.data(), static_cast<size_t>(w) * h, working_.data());
 
 	const ModelParams &params = model.params();
@@ -796,7 +892,9 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 				observer_->onVotes({k, static_cast<int>(pass), cropRotation_,
 						    std::span<const CastVote>(votes_.data(), votes)});
 			size_t modes = findPoseModes(std::span(votes_.data(), votes), modeCfg,
-						     {modeScratch_, seeds_, modeSupport_, modePacked_}, modes_.first(modeSlots));
+						     {modeScratch_, seeds_, modeSupport_, modePacked_, &workers_,
+						      modeThreadScratch_, modeThreadSupport_},
+						     modes_.first(modeSlots));
 			timer_.lap(Stage::kModes);
 			Hypothesis h = scoreModes(k, modes, vk, model, config);
 			timer_.lap(Stage::kScore);

@@ -112,6 +112,7 @@ struct EstimatorLimits {
 	int maxModes = 32;           // vote modes per iteration (translation x rotation)
 	int maxModeSeeds = 64;
 	int maxCandidates = 16;      // distinct hypotheses kept over the iterations
+	int threads = 1;             // threads of a box's searches, the caller included (0: one per core)
 };
 
 // One scored hypothesis, reported to an EstimateObserver (debugging, the
@@ -241,11 +242,14 @@ private:
 				   const Hypothesis &best);
 	// The pose rendered with the model's render mesh into renderView_ (cleared
 	// first); false if the render failed.
-	bool renderPose(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model);
+	// slot: the renderer and render buffer of one pool thread (0: the
+	// caller's, renderView_), so that threads can score side by side.
+	bool renderPose(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model, int slot = 0);
 	template <typename F>
-	bool forEachShownPoint(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model, F &&f);
+	bool forEachShownPoint(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model, F &&f,
+			       int slot = 0);
 	std::optional<Eigen::Vector3d> shownCentroid(const Pose &pose, const CameraIntrinsics &K,
-						     const ObjectModel &model);
+						     const ObjectModel &model, int slot = 0);
 	// ICP on the crop cut to h's depth range, then the score: the polished
 	// hypothesis, or an invalid one when ICP could not run. The time before
 	// it is charged to `stage`, the ICP and its score to kIcp.
@@ -256,7 +260,14 @@ private:
 	void report(int iteration, const char *stage, int rank, const Pose &virtualPose,
 		    const HypothesisScore &s, float density) const;
 	HypothesisScore score(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model,
-			      const EstimatorConfig &config);
+			      const EstimatorConfig &config, int slot = 0);
+	// Scores poses[i] into scores[i], spread over the pool's threads.
+	void scoreAll(std::span<const Pose> poses, std::span<HypothesisScore> scores, const CameraIntrinsics &K,
+		      const ObjectModel &model, const EstimatorConfig &config);
+	DepthRenderer &rendererOf(int slot) { return slot == 0 ? renderer_ : moreRenderers_[slot - 1]; }
+	ImageView<float> &renderViewOf(int slot) { return slot == 0 ? renderView_ : moreRenderViews_[slot - 1]; }
+	// The render views of every slot over render_ (one window each).
+	void setRenderViews(int w, int h);
 	void maskToHypothesis(const HypothesisScore &s, const EstimatorConfig &config);
 	void maskToRange(float lo, float hi);
 
@@ -280,6 +291,10 @@ private:
 	IbsFitter fitter_;
 	PartExtractor extractor_;
 	DepthRenderer renderer_;
+	WorkerPool workers_; // started with the arena, idle between searches
+	// The other pool threads' renderers and render views (slots 1...).
+	std::array<DepthRenderer, WorkerPool::kMaxThreads - 1> moreRenderers_;
+	std::array<ImageView<float>, WorkerPool::kMaxThreads - 1> moreRenderViews_;
 
 	SteadyClock steadyClock_;
 	StageTimer timer_;
@@ -299,11 +314,15 @@ private:
 	std::span<float> modeScratch_;
 	std::span<uint32_t> modeSupport_;
 	std::span<Eigen::Vector4f> modePacked_;
+	std::span<float> modeThreadScratch_; // the other threads' (threads - 1 x maxVotes)
+	std::span<uint32_t> modeThreadSupport_;
 	std::span<Eigen::Vector3f> seeds_;
 	std::span<PoseMode> modes_;
 	std::span<int> windowHist_;
 	std::span<DepthWindow> windows_;
 	size_t windowCount_ = 0; // of the current box
+	std::span<ViewCoarseCandidate> viewHeaps_; // the view search's, per thread
+	std::span<ViewFineResult> viewFine_;
 	std::span<Hypothesis> kept_; // best distinct hypotheses, by score
 	size_t keptCount_ = 0;
 	Eigen::Matrix3d cropRotation_ = Eigen::Matrix3d::Identity();

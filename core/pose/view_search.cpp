@@ -196,55 +196,67 @@ size_t insertProposal(std::span<ViewProposal> out, size_t count, const ViewPropo
 
 namespace {
 
-// A rotation the coarse pass kept.
-struct CoarseCandidate {
-	float score;
-	int view, turn;
+// Order of coarse candidates: by score, ties by rotation index, a strict
+// order so the kept set does not depend on which thread saw which rotation.
+bool betterCandidate(const ViewCoarseCandidate &a, const ViewCoarseCandidate &b, int inplane)
+{
+	if (a.score != b.score)
+		return a.score > b.score;
+	return a.view * inplane + a.turn < b.view * inplane + b.turn;
+}
+
+// One thread's view: its points rotated by the view's rotation (a subset on
+// a stride) and the translation they are tried at.
+struct RotatedView {
+	std::array<Eigen::Vector3f, kMaxViewPoints> points;
+	int m = 0;
+	int view = -1;
+	Eigen::Vector3f t0;
 };
 
-bool betterCandidate(const CoarseCandidate &a, const CoarseCandidate &b)
-{
-	return a.score > b.score;
-}
+// Residual scratch of one evaluation.
+struct EvalScratch {
+	std::array<float, kMaxViewPoints> res, all, depths;
+};
+
+constexpr int kCoarseViewsPerTask = 8;
+constexpr int kFinePerTask = 32;
 
 } // namespace
 
 size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &config,
 		   ImageView<const float> observed, const CameraIntrinsics &K,
 		   const Eigen::Vector3d &centre, std::span<ViewProposal> out, BoxAxes box,
-		   float anchorDepth)
+		   float anchorDepth, WorkerPool *pool, ViewSearchWorkspace workspace)
 {
 	const int total = viewSearchSize(templates, config);
 	if (total == 0 || out.empty() || !(anchorDepth > 0 || centre.z() > 1.0))
 		return 0;
 	const int n = std::min(templates.pointsPerView, kMaxViewPoints);
-	std::array<Eigen::Vector3f, kMaxViewPoints> rotated;
-	std::array<float, kMaxViewPoints> res;
 	const SparseScorer scorer(config, observed, K);
-	Eigen::Vector3f t0 = centre.cast<float>();
-	std::array<float, kMaxViewPoints> depths;
+	const Eigen::Vector3f centreF = centre.cast<float>();
 	const double distinct = config.distinctDeg * M_PI / 180.0;
 	const bool centring = config.boxCentre && (box.x || box.y);
+	const int inplane = config.inplane;
 
 	// The view's points (already rotated by the view) turned in-plane.
 	auto turnedView = [&](const Eigen::Vector3f *pts, int m, int turn) {
-		const double angle = 2.0 * M_PI * turn / config.inplane;
+		const double angle = 2.0 * M_PI * turn / inplane;
 		return TurnedView{pts, m, static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle))};
 	};
-	// Score of one rotation on the first m of `pts` (already rotated by the
-	// view), at the given and the box-centred translation; t gets the
-	// better one's.
-	std::array<float, kMaxViewPoints> all;
-	auto align = [&](const TurnedView &tv, Eigen::Vector3f &t, bool coarse) {
-		return coarse ? scorer.alignedOnce(tv, t, res.data(), all.data()) : scorer.aligned(tv, t, res.data());
-	};
-	auto evaluate = [&](const Eigen::Vector3f *pts, int m, int turn, Eigen::Vector3f &t, bool coarse) {
-		const TurnedView tv = turnedView(pts, m, turn);
-		t = t0;
-		float best = scorer.score(align(tv, t, coarse), m);
+	// Score of one rotation of view r, at its translation and the
+	// box-centred one; t gets the better one's.
+	auto evaluate = [&](const RotatedView &r, int turn, Eigen::Vector3f &t, bool coarse, EvalScratch &s) {
+		const TurnedView tv = turnedView(r.points.data(), r.m, turn);
+		auto align = [&](Eigen::Vector3f &at) {
+			return coarse ? scorer.alignedOnce(tv, at, s.res.data(), s.all.data())
+				      : scorer.aligned(tv, at, s.res.data());
+		};
+		t = r.t0;
+		float best = scorer.score(align(t), r.m);
 		if (centring) {
-			Eigen::Vector3f tb = scorer.centred(tv, t0, box);
-			const float sb = scorer.score(align(tv, tb, coarse), m);
+			Eigen::Vector3f tb = scorer.centred(tv, r.t0, box);
+			const float sb = scorer.score(align(tb), r.m);
 			if (sb > best) {
 				best = sb;
 				t = tb;
@@ -252,20 +264,29 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		}
 		return best;
 	};
-	auto rotateView = [&](int v, int stride) {
+	auto rotateView = [&](RotatedView &r, int v, int stride, EvalScratch &s) {
 		const Eigen::Matrix3f r0 = viewRotation(templates, 1, v, 0).cast<float>();
 		const std::span<const Eigen::Vector3f> pts = templates.view(v);
 		int m = 0;
 		for (int i = 0; i < n; i += stride)
-			rotated[m++] = r0 * pts[i];
+			r.points[m++] = r0 * pts[i];
+		r.m = m;
+		r.view = v;
+		r.t0 = centreF;
 		if (anchorDepth > 0 && m > 0) {
 			// In-plane turns keep every point's depth: one median per view.
 			for (int i = 0; i < m; ++i)
-				depths[i] = rotated[i].z();
-			std::nth_element(depths.begin(), depths.begin() + m / 2, depths.begin() + m);
-			t0.z() = anchorDepth - depths[m / 2];
+				s.depths[i] = r.points[i].z();
+			std::nth_element(s.depths.begin(), s.depths.begin() + m / 2, s.depths.begin() + m);
+			r.t0.z() = anchorDepth - s.depths[m / 2];
 		}
-		return m;
+	};
+	auto runTasks = [&](int tasks, auto &&task) {
+		if (pool)
+			pool->run(tasks, task);
+		else
+			for (int i = 0; i < tasks; ++i)
+				task(i, 0);
 	};
 	// The last pass proposes into `wide` when the lateral climb is on, into
 	// `out` directly otherwise.
@@ -281,7 +302,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 			return;
 		ViewProposal p;
 		p.score = score;
-		p.pose.R = viewRotation(templates, config.inplane, v, turn);
+		p.pose.R = viewRotation(templates, inplane, v, turn);
 		p.pose.t = t.cast<double>();
 		p.view = v;
 		p.turn = turn;
@@ -289,8 +310,9 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	};
 	// Sideways hill climb of one proposal's sparse score; depth re-aligned
 	// at every step.
-	auto climbSideways = [&](ViewProposal &p) {
-		const TurnedView tv = turnedView(rotated.data(), rotateView(p.view, 1), p.turn);
+	auto climbSideways = [&](ViewProposal &p, RotatedView &r, EvalScratch &s) {
+		rotateView(r, p.view, 1, s);
+		const TurnedView tv = turnedView(r.points.data(), r.m, p.turn);
 		Eigen::Vector3f t = p.pose.t.cast<float>();
 		float best = p.score;
 		for (float step = config.lateralStepMm; step > 0.2f * config.lateralStepMm; step *= 0.5f) {
@@ -299,7 +321,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 				for (int d = 0; d < 4; ++d) {
 					Eigen::Vector3f c = t;
 					c[d / 2] += (d % 2 ? step : -step);
-					const float sc = scorer.score(scorer.aligned(tv, c, res.data()), tv.n);
+					const float sc = scorer.score(scorer.aligned(tv, c, s.res.data()), tv.n);
 					if (sc > best) {
 						best = sc;
 						bestT = c;
@@ -313,68 +335,112 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		p.score = best;
 		p.pose.t = t.cast<double>();
 	};
-	// The climbed proposals, best distinct first, into `out`.
+	// The climbed proposals, best distinct first, into `out`. Each climbs
+	// on its own, so they are spread over the threads.
 	auto finish = [&]() {
 		if (!climb)
 			return count;
-		for (size_t i = 0; i < count; ++i)
-			climbSideways(wide[i]);
+		runTasks(static_cast<int>(count), [&](int i, int) {
+			RotatedView r;
+			EvalScratch s;
+			climbSideways(wide[static_cast<size_t>(i)], r, s);
+		});
 		std::sort(wide.begin(), wide.begin() + count,
 			  [](const ViewProposal &a, const ViewProposal &b) { return a.score > b.score; });
-		size_t n = 0;
+		size_t kept = 0;
 		for (size_t i = 0; i < count; ++i)
-			n = insertProposal(out, n, wide[i], distinct);
-		return n;
+			kept = insertProposal(out, kept, wide[i], distinct);
+		return kept;
 	};
 
 	const int stride = config.coarsePoints > 0 ? std::max(1, n / config.coarsePoints) : 1;
 	const int keep = std::clamp(config.coarseKeep, 1, kMaxCoarseKeep);
 	if (stride == 1) {
+		// One pass on all points (not the default): in order, one thread.
+		RotatedView r;
+		EvalScratch s;
 		for (int v = 0; v < templates.viewpoints; ++v) {
-			const int m = rotateView(v, 1);
-			for (int turn = 0; turn < config.inplane; ++turn) {
+			rotateView(r, v, 1, s);
+			for (int turn = 0; turn < inplane; ++turn) {
 				Eigen::Vector3f t;
-				const float score = evaluate(rotated.data(), m, turn, t, false);
+				const float score = evaluate(r, turn, t, false, s);
 				propose(v, turn, score, t);
 			}
 		}
 		return finish();
 	}
 
-	// Coarse pass: a min-heap of the best `keep` rotations.
-	std::array<CoarseCandidate, kMaxCoarseKeep> heap;
-	size_t held = 0;
-	for (int v = 0; v < templates.viewpoints; ++v) {
-		const int m = rotateView(v, stride);
-		for (int turn = 0; turn < config.inplane; ++turn) {
-			Eigen::Vector3f t;
-			const float score = evaluate(rotated.data(), m, turn, t, true);
-			if (score <= 0)
-				continue;
-			if (held < static_cast<size_t>(keep)) {
-				heap[held++] = {score, v, turn};
-				std::push_heap(heap.begin(), heap.begin() + held, betterCandidate);
-			} else if (score > heap[0].score) {
-				std::pop_heap(heap.begin(), heap.begin() + held, betterCandidate);
-				heap[held - 1] = {score, v, turn};
-				std::push_heap(heap.begin(), heap.begin() + held, betterCandidate);
+	// Without a workspace: one thread on stack storage.
+	std::array<ViewCoarseCandidate, kMaxCoarseKeep> ownHeap;
+	std::array<ViewFineResult, kMaxCoarseKeep> ownFine;
+	const int threads = pool && workspace.heaps.size() >= viewSearchHeapSize(pool->threads()) &&
+				    workspace.fine.size() >= static_cast<size_t>(kMaxCoarseKeep)
+			    ? pool->threads()
+			    : 1;
+	if (threads == 1)
+		pool = nullptr;
+	const std::span<ViewCoarseCandidate> heaps =
+		threads > 1 ? workspace.heaps : std::span<ViewCoarseCandidate>(ownHeap);
+	const std::span<ViewFineResult> fine = threads > 1 ? workspace.fine : std::span<ViewFineResult>(ownFine);
+	auto better = [inplane](const ViewCoarseCandidate &a, const ViewCoarseCandidate &b) {
+		return betterCandidate(a, b, inplane);
+	};
+
+	// Coarse pass: each thread keeps a min-heap of its best `keep`.
+	std::array<size_t, WorkerPool::kMaxThreads> held{};
+	const int coarseTasks = (templates.viewpoints + kCoarseViewsPerTask - 1) / kCoarseViewsPerTask;
+	runTasks(coarseTasks, [&](int task, int thread) {
+		ViewCoarseCandidate *heap = heaps.data() + static_cast<size_t>(thread) * kMaxCoarseKeep;
+		size_t &h = held[static_cast<size_t>(thread)];
+		RotatedView r;
+		EvalScratch s;
+		const int v1 = std::min(templates.viewpoints, (task + 1) * kCoarseViewsPerTask);
+		for (int v = task * kCoarseViewsPerTask; v < v1; ++v) {
+			rotateView(r, v, stride, s);
+			for (int turn = 0; turn < inplane; ++turn) {
+				Eigen::Vector3f t;
+				const ViewCoarseCandidate c{evaluate(r, turn, t, true, s), v, turn};
+				if (c.score <= 0)
+					continue;
+				if (h < static_cast<size_t>(keep)) {
+					heap[h++] = c;
+					std::push_heap(heap, heap + h, better);
+				} else if (better(c, heap[0])) {
+					std::pop_heap(heap, heap + h, better);
+					heap[h - 1] = c;
+					std::push_heap(heap, heap + h, better);
+				}
 			}
 		}
+	});
+	// The threads' heaps side by side; their best `keep` are the best of all.
+	size_t held0 = held[0];
+	for (int th = 1; th < threads; ++th)
+		for (size_t i = 0; i < held[static_cast<size_t>(th)]; ++i)
+			heaps[held0++] = heaps[static_cast<size_t>(th) * kMaxCoarseKeep + i];
+	ViewCoarseCandidate *cand = heaps.data();
+	if (held0 > static_cast<size_t>(keep)) {
+		std::nth_element(cand, cand + keep, cand + held0, better);
+		held0 = static_cast<size_t>(keep);
 	}
-	// Fine pass on all points, view by view so each view is rotated once.
-	std::sort(heap.begin(), heap.begin() + held, [](const CoarseCandidate &a, const CoarseCandidate &b) {
+	// Fine pass on all points, in view order so each view is rotated once
+	// per task; results by candidate, proposed in that order.
+	std::sort(cand, cand + held0, [](const ViewCoarseCandidate &a, const ViewCoarseCandidate &b) {
 		return a.view != b.view ? a.view < b.view : a.turn < b.turn;
 	});
-	int rotatedView = -1, m = 0;
-	for (size_t i = 0; i < held; ++i) {
-		if (heap[i].view != rotatedView) {
-			m = rotateView(heap[i].view, 1);
-			rotatedView = heap[i].view;
+	const int fineTasks = static_cast<int>((held0 + kFinePerTask - 1) / kFinePerTask);
+	runTasks(fineTasks, [&](int task, int) {
+		RotatedView r;
+		EvalScratch s;
+		const size_t i1 = std::min(held0, static_cast<size_t>(task + 1) * kFinePerTask);
+		for (size_t i = static_cast<size_t>(task) * kFinePerTask; i < i1; ++i) {
+			if (cand[i].view != r.view)
+				rotateView(r, cand[i].view, 1, s);
+			fine[i].score = evaluate(r, cand[i].turn, fine[i].t, false, s);
 		}
-		Eigen::Vector3f t;
-		const float score = evaluate(rotated.data(), m, heap[i].turn, t, false);
-		propose(heap[i].view, heap[i].turn, score, t);
-	}
+	});
+	for (size_t i = 0; i < held0; ++i)
+		propose(cand[i].view, cand[i].turn, fine[i].score, fine[i].t);
 	return finish();
 }
 

@@ -12,8 +12,8 @@
 // first moved to the median depth residual of the rotation's points, which
 // absorbs the offset between the voted centre and the visible surface. The
 // best distinct rotations are returned for the full score and the polish.
-// No allocation: fixed-size stack scratch (kMaxViewPoints points,
-// kMaxCoarseKeep coarse candidates).
+// No allocation: fixed-size stack scratch per task (kMaxViewPoints points),
+// coarse candidates in the caller's workspace or on the stack.
 
 #include <span>
 
@@ -21,6 +21,7 @@
 #include "core/geometry/camera_intrinsics.h"
 #include "core/geometry/pose.h"
 #include "core/pose/view_templates.h"
+#include "core/runtime/worker_pool.h"
 
 namespace ihf {
 
@@ -80,6 +81,30 @@ struct ViewProposal {
 	int turn = -1;
 };
 
+// A rotation the coarse pass kept.
+struct ViewCoarseCandidate {
+	float score;
+	int view, turn;
+};
+
+// A kept rotation's score on all points and its translation.
+struct ViewFineResult {
+	float score;
+	Eigen::Vector3f t;
+};
+
+// Scratch of a search spread over a pool's threads: one coarse heap per
+// thread and the fine pass' results.
+struct ViewSearchWorkspace {
+	std::span<ViewCoarseCandidate> heaps; // viewSearchHeapSize(threads)
+	std::span<ViewFineResult> fine;       // kMaxCoarseKeep
+};
+
+inline size_t viewSearchHeapSize(int threads)
+{
+	return static_cast<size_t>(threads) * kMaxCoarseKeep;
+}
+
 inline int viewSearchSize(const ViewTemplates &t, const ViewSearchConfig &c)
 {
 	return t.empty() || c.inplane <= 0 ? 0 : t.viewpoints * c.inplane;
@@ -93,10 +118,12 @@ Eigen::Matrix3d viewRotation(const ViewTemplates &t, int inplane, int v, int tur
 // distinct ones are written to `out` (at most out.size(), best first).
 // Returns how many. With anchorDepth > 0 each rotation's depth is instead
 // chosen to put the median depth of its points at anchorDepth (mm), centre's
-// x and y kept.
+// x and y kept. With a pool and a workspace for its threads the rotations
+// are spread over them; the proposals are the same for any number of
+// threads (one thread on stack scratch without them).
 size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &config,
 		   ImageView<const float> observed, const CameraIntrinsics &K,
 		   const Eigen::Vector3d &centre, std::span<ViewProposal> out, BoxAxes box = {},
-		   float anchorDepth = 0.0f);
+		   float anchorDepth = 0.0f, WorkerPool *pool = nullptr, ViewSearchWorkspace workspace = {});
 
 } // namespace ihf

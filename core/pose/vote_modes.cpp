@@ -2,6 +2,7 @@
 #include "core/pose/vote_modes.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -233,6 +234,51 @@ Eigen::Quaternionf averageQuaternion(std::span<const Eigen::Quaternionf> qs,
 	return principalQuaternion(m);
 }
 
+namespace {
+
+// Translation mean shift steps of one seed are at most this many (the
+// config's maxIterations is clamped), so a seed's whole path fits a trail.
+constexpr int kMaxTrail = 64;
+constexpr size_t kMaxBatch = WorkerPool::kMaxThreads;
+// Translation modes whose rotations run on several threads (more: one).
+constexpr size_t kMaxCentres = 64;
+
+// The path of one seed's mean shift: x[0] the seed, x[j] after j steps.
+struct SeedTrail {
+	std::array<Eigen::Vector3f, kMaxTrail + 1> x;
+	int steps = 0;
+	bool done = false;    // the last step moved less than the tolerance
+	bool stopped = false; // its end is near a mode found before it
+	float mass = 0;       // kernel mass at its end, if not stopped
+};
+
+// A converged seed: merged into a mode it meets (which keeps the denser
+// centre), else a new mode, else it replaces the weakest if denser.
+void addTranslationMode(std::span<PoseMode> modes, size_t &found, size_t cap, float merge2,
+			const Eigen::Vector3f &x, float mass)
+{
+	for (size_t m = 0; m < found; ++m) {
+		if (squaredDistance(modes[m].centre, x) < merge2) {
+			if (mass > modes[m].translationDensity) {
+				modes[m].centre = x;
+				modes[m].translationDensity = mass;
+			}
+			return;
+		}
+	}
+	if (found < cap) {
+		modes[found++] = PoseMode{x, Eigen::Quaternionf::Identity(), mass, 0, 0};
+		return;
+	}
+	auto weakest = std::min_element(modes.begin(), modes.begin() + found, [](const PoseMode &a, const PoseMode &b) {
+		return a.translationDensity < b.translationDensity;
+	});
+	if (mass > weakest->translationDensity)
+		*weakest = PoseMode{x, Eigen::Quaternionf::Identity(), mass, 0, 0};
+}
+
+} // namespace
+
 size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &config,
 		     VoteModeWorkspace ws, std::span<PoseMode> modes)
 {
@@ -273,69 +319,101 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 			? (positive + static_cast<size_t>(config.maxShiftVotes) - 1) / static_cast<size_t>(config.maxShiftVotes)
 			: 1;
 	const VoteGrid grid(votes, ws.support, ws.scratch, ws.packed, cutoff, std::max<size_t>(1, shiftStride));
-	for (size_t i = 0; i < s; ++i) {
-		Eigen::Vector3f x = ws.seeds[i], next;
-		float mass = 0;
-		// A seed that reaches a mode already found climbs no further.
-		const auto nearFound = [&](const Eigen::Vector3f &p) {
-			for (size_t m = 0; m < found; ++m)
-				if (squaredDistance(modes[m].centre, p) < merge2)
-					return true;
-			return false;
-		};
-		bool reached = false;
-		for (int it = 0; it < config.maxIterations && !reached; ++it) {
-			mass = grid.meanShiftStep(x, inv2s2, cutoff2, next);
-			bool done = squaredDistance(next, x) < 1e-4f * h * h;
-			x = next;
-			reached = nearFound(x);
-			if (done)
-				break;
-		}
-		if (reached)
-			continue;
-		mass = grid.meanShiftStep(x, inv2s2, cutoff2, next);
-		bool merged = false;
-		for (size_t m = 0; m < found; ++m) {
-			if (squaredDistance(modes[m].centre, x) < merge2) {
-				if (mass > modes[m].translationDensity) {
-					modes[m].centre = x;
-					modes[m].translationDensity = mass;
-				}
-				merged = true;
+	const float tolerance = 1e-4f * h * h;
+	const int maxIterations = std::min(config.maxIterations, kMaxTrail);
+	// A seed that reaches a mode already found climbs no further.
+	const auto nearFound = [&](const Eigen::Vector3f &p) {
+		for (size_t m = 0; m < found; ++m)
+			if (squaredDistance(modes[m].centre, p) < merge2)
+				return true;
+		return false;
+	};
+	// Climbs tr from its step `from` until it stops moving, meets a mode
+	// found, or runs out of steps; the kernel mass at its end if no mode.
+	const auto climb = [&](SeedTrail &tr, int from) {
+		int j = from;
+		tr.done = tr.stopped = false;
+		while (j < maxIterations) {
+			Eigen::Vector3f next;
+			grid.meanShiftStep(tr.x[j], inv2s2, cutoff2, next);
+			tr.done = squaredDistance(next, tr.x[j]) < tolerance;
+			tr.x[++j] = next;
+			if (nearFound(next)) {
+				tr.stopped = true;
 				break;
 			}
+			if (tr.done)
+				break;
 		}
-		if (merged)
-			continue;
-		if (found < centreCap) {
-			modes[found++] = PoseMode{x, Eigen::Quaternionf::Identity(), mass, 0, 0};
-		} else {
-			// Replace the weakest mode if this one is stronger.
-			auto weakest = std::min_element(modes.begin(), modes.begin() + found,
-							[](const PoseMode &a, const PoseMode &b) {
-								return a.translationDensity < b.translationDensity;
-							});
-			if (mass > weakest->translationDensity)
-				*weakest = PoseMode{x, Eigen::Quaternionf::Identity(), mass, 0, 0};
+		tr.steps = j;
+		if (!tr.stopped) {
+			Eigen::Vector3f unused;
+			tr.mass = grid.meanShiftStep(tr.x[j], inv2s2, cutoff2, unused);
+		}
+	};
+	// Seeds climb in batches, one per thread, against the modes found before
+	// the batch; then, in seed order, each trail is checked against the modes
+	// found so far, which may stop it earlier, as one seed after the other
+	// would have. A trail stopped by a mode that has since been replaced
+	// (the weakest, when the modes are full) climbs on.
+	// The modes are those of one thread, for any number of threads.
+	const int batch = ws.pool ? std::min(ws.pool->threads(), static_cast<int>(kMaxBatch)) : 1;
+	std::array<SeedTrail, kMaxBatch> trails;
+	for (size_t i0 = 0; i0 < s; i0 += static_cast<size_t>(batch)) {
+		const int nb = static_cast<int>(std::min(s - i0, static_cast<size_t>(batch)));
+		const auto task = [&](int b, int) {
+			SeedTrail &tr = trails[static_cast<size_t>(b)];
+			tr.x[0] = ws.seeds[i0 + static_cast<size_t>(b)];
+			climb(tr, 0);
+		};
+		if (nb > 1)
+			ws.pool->run(nb, task);
+		else
+			task(0, 0);
+		for (int b = 0; b < nb; ++b) {
+			SeedTrail &tr = trails[static_cast<size_t>(b)];
+			bool reached = false;
+			for (int j = 1; j <= tr.steps && !reached; ++j)
+				reached = nearFound(tr.x[j]);
+			if (reached)
+				continue;
+			if (tr.stopped) {
+				if (!tr.done)
+					climb(tr, tr.steps);
+				else {
+					Eigen::Vector3f unused;
+					tr.stopped = false;
+					tr.mass = grid.meanShiftStep(tr.x[tr.steps], inv2s2, cutoff2, unused);
+				}
+				if (tr.stopped)
+					continue;
+			}
+			addTranslationMode(modes, found, centreCap, merge2, tr.x[tr.steps], tr.mass);
 		}
 	}
 	std::sort(modes.begin(), modes.begin() + found, [](const PoseMode &a, const PoseMode &b) {
 		return a.translationDensity > b.translationDensity;
 	});
 
-	// Rotation modes among each translation mode's supporting votes, written
-	// from the last mode back so a mode's slots never overwrite one not yet
-	// processed (slot m*R >= m).
+	// Rotation modes among each translation mode's supporting votes, each
+	// mode on its own (spread over the threads, each with its own scratch)
+	// from a copy of the translation modes, into its slots m*R...
 	const float rs = config.rotationBandwidth;
 	const float invR = 1.0f / (2.0f * rs * rs);
 	const float cosCluster = std::cos(0.5f * rs); // quaternion dot at angle rs
 	const float cosCutoff = std::cos(std::min(1.5f * rs, 0.5f * static_cast<float>(M_PI)));
-	std::span<float> w = ws.scratch.first(votes.size());
-	std::span<uint32_t> sup = ws.support.first(std::min(ws.support.size(), votes.size()));
-	size_t written = 0;
-	for (size_t mm = found; mm-- > 0;) {
-		const PoseMode centre = modes[mm];
+	const int threads = ws.pool && ws.support.size() >= votes.size() && ws.threadScratch.size() >= (ws.pool->threads() - 1) * votes.size() &&
+				    ws.threadSupport.size() >= (ws.pool->threads() - 1) * votes.size() && found <= kMaxCentres
+			    ? ws.pool->threads()
+			    : 1;
+	std::array<PoseMode, kMaxCentres> centres;
+	const auto rotationModes = [&](size_t mm, int thread) {
+		const PoseMode centre = threads > 1 ? centres[mm] : modes[mm];
+		std::span<float> w = thread == 0 ? ws.scratch.first(votes.size())
+						 : ws.threadScratch.subspan((thread - 1) * votes.size(), votes.size());
+		std::span<uint32_t> sup =
+			thread == 0 ? ws.support.first(std::min(ws.support.size(), votes.size()))
+				    : ws.threadSupport.subspan((thread - 1) * votes.size(), votes.size());
 		float support = 0;
 		size_t ns = 0;
 		for (size_t i = 0; i < votes.size(); ++i) {
@@ -427,8 +505,17 @@ size_t findPoseModes(std::span<const CastVote> votes, const VoteModeConfig &conf
 		}
 		for (int j = keep; j < perCentre; ++j)
 			modes[mm * perCentre + j].supportWeight = -1; // empty slot
-		written = std::max(written, mm * perCentre + perCentre);
+	};
+	if (threads > 1) {
+		std::copy(modes.begin(), modes.begin() + found, centres.begin());
+		ws.pool->run(static_cast<int>(found), [&](int mm, int thread) { rotationModes(static_cast<size_t>(mm), thread); });
+	} else {
+		// ...written from the last mode back so a mode's slots never
+		// overwrite one not yet processed (slot m*R >= m).
+		for (size_t mm = found; mm-- > 0;)
+			rotationModes(mm, 0);
 	}
+	const size_t written = found * static_cast<size_t>(perCentre);
 	// Close the gaps left by centres with fewer rotation modes.
 	size_t count = 0;
 	for (size_t i = 0; i < written; ++i)

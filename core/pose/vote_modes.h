@@ -15,6 +15,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "core/runtime/worker_pool.h"
+
 namespace ihf {
 
 struct CastVote {
@@ -55,6 +57,12 @@ struct VoteModeWorkspace {
 	std::span<Eigen::Vector3f> seeds; // >= maxSeeds
 	std::span<uint32_t> support; // >= votes (supporting votes of a centre)
 	std::span<Eigen::Vector4f> packed; // >= votes (centres and weights in grid order)
+	// With a pool the seeds and the rotation modes are spread over its
+	// threads (the same modes as one thread); threads other than the
+	// caller's need scratch and support of their own.
+	WorkerPool *pool = nullptr;
+	std::span<float> threadScratch{};    // >= (threads - 1) x votes
+	std::span<uint32_t> threadSupport{}; // >= (threads - 1) x votes
 };
 
 // Writes up to modes.size() modes ranked by translation density, each

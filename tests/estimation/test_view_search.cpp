@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <random>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -416,6 +417,43 @@ TEST(ViewTemplateBuilder, RejectsAnEmptyMeshAndBadCounts)
 	auto bad = buildViewTemplatePoints(tri, 70.0, {0, 64});
 	ASSERT_FALSE(bad);
 	EXPECT_NE(std::string(bad.error().message).find("positive"), std::string::npos);
+}
+
+// A pool spreads the coarse pass, the fine pass and the sideways climb over
+// its threads; the proposals are the same bits as with one thread, for
+// voted and anchored centres, with and without the box's centring.
+TEST_F(ViewSearchTest, ThreadsGiveTheSameProposals)
+{
+	std::mt19937_64 rng(23);
+	for (int trial = 0; trial < 3; ++trial) {
+		const Pose truth = randomPose(rng);
+		const std::vector<float> depth = render(truth);
+		ImageView<const float> view(depth.data(), K_.width, K_.height, K_.width);
+		ViewSearchConfig cfg;
+		cfg.inplane = 12;
+		cfg.coarseKeep = 300;
+		const Eigen::Vector3d voted = truth.t + Eigen::Vector3d(4, -6, 25);
+		const float anchor = trial == 2 ? static_cast<float>(truth.t.z()) : 0.0f;
+		const BoxAxes axes = trial == 1 ? BoxAxes{false, false} : BoxAxes{};
+		ViewProposal one[6];
+		const size_t n1 = searchViews(templates(), cfg, view, K_, voted, one, axes, anchor);
+		ASSERT_GT(n1, 0u);
+		for (int threads : {2, 3}) {
+			WorkerPool pool(threads);
+			std::vector<ViewCoarseCandidate> heaps(viewSearchHeapSize(threads));
+			std::vector<ViewFineResult> fine(kMaxCoarseKeep);
+			ViewProposal many[6];
+			const size_t n = searchViews(templates(), cfg, view, K_, voted, many, axes, anchor, &pool,
+						     ViewSearchWorkspace{heaps, fine});
+			ASSERT_EQ(n, n1) << "trial " << trial << ", " << threads << " threads";
+			for (size_t i = 0; i < n; ++i) {
+				EXPECT_EQ(many[i].view, one[i].view) << "trial " << trial << ", proposal " << i;
+				EXPECT_EQ(many[i].turn, one[i].turn);
+				EXPECT_EQ(many[i].score, one[i].score);
+				EXPECT_TRUE(many[i].pose.t == one[i].pose.t);
+			}
+		}
+	}
 }
 
 } // namespace

@@ -226,5 +226,63 @@ TEST(VoteModes, QuaternionAverageAgreesWithEigensSolver)
 	}
 }
 
+// A pool spreads the seeds and the rotation modes over its threads; the
+// modes are the same bits as with one thread, also when seeds meet modes
+// found by others in their batch and when a stronger mode replaces the
+// weakest (more clusters than room: 4 translation modes, then 1).
+TEST(VoteModes, ThreadsFindTheSameModes)
+{
+	std::mt19937_64 rng(7);
+	std::normal_distribution<float> n(0, 1);
+	std::uniform_real_distribution<float> u(-150, 150);
+	std::vector<CastVote> votes;
+	for (int c = 0; c < 12; ++c) {
+		const Eigen::Vector3f centre(u(rng), u(rng), 900 + u(rng));
+		const Eigen::Quaternionf rot = Eigen::Quaternionf::UnitRandom();
+		for (int i = 0; i < 60 + 40 * c; ++i) {
+			const Eigen::Quaternionf noise(
+				Eigen::AngleAxisf(0.1f * n(rng), Eigen::Vector3f(n(rng), n(rng), n(rng)).normalized()));
+			votes.push_back({centre + 6.0f * Eigen::Vector3f(n(rng), n(rng), n(rng)), rot * noise,
+					 0.5f + 0.5f * std::abs(n(rng))});
+		}
+	}
+	for (int i = 0; i < 3000; ++i)
+		votes.push_back({Eigen::Vector3f(u(rng), u(rng), 900 + u(rng)), Eigen::Quaternionf::UnitRandom(), 1.0f});
+	std::shuffle(votes.begin(), votes.end(), rng);
+
+	VoteModeConfig cfg;
+	cfg.rotationModesPerCentre = 3;
+	auto run = [&](WorkerPool *pool, size_t room) {
+		const size_t others = pool ? static_cast<size_t>(pool->threads() - 1) : 0;
+		std::vector<float> scratch(votes.size()), threadScratch(others * votes.size());
+		std::vector<uint32_t> support(votes.size()), threadSupport(others * votes.size());
+		std::vector<Eigen::Vector4f> packed(votes.size());
+		std::vector<Eigen::Vector3f> seeds(64);
+		std::vector<PoseMode> modes(room);
+		modes.resize(findPoseModes(votes, cfg,
+					   {scratch, seeds, support, packed, pool, threadScratch, threadSupport}, modes));
+		return modes;
+	};
+	for (size_t room : {12u, 3u}) {
+		const std::vector<PoseMode> one = run(nullptr, room);
+		ASSERT_GE(one.size(), room / 3);
+		for (int threads : {2, 3, 5}) {
+			WorkerPool pool(threads);
+			for (int repeat = 0; repeat < 3; ++repeat) {
+				const std::vector<PoseMode> many = run(&pool, room);
+				ASSERT_EQ(many.size(), one.size()) << threads << " threads";
+				for (size_t m = 0; m < one.size(); ++m) {
+					SCOPED_TRACE(testing::Message() << threads << " threads, room " << room << ", mode " << m);
+					EXPECT_TRUE(many[m].centre == one[m].centre);
+					EXPECT_TRUE(many[m].rotation.coeffs() == one[m].rotation.coeffs());
+					EXPECT_EQ(many[m].translationDensity, one[m].translationDensity);
+					EXPECT_EQ(many[m].rotationDensity, one[m].rotationDensity);
+					EXPECT_EQ(many[m].supportWeight, one[m].supportWeight);
+				}
+			}
+		}
+	}
+}
+
 } // namespace
 } // namespace ihf

@@ -217,6 +217,7 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 
 	EstimatorLimits limits;
 	limits.maxMeshVertices = std::max(ape.model->mesh().vertices.size(), duck.model->mesh().vertices.size());
+	limits.threads = 2; // the worker pool's hand-offs allocate nothing either
 	PoseEstimator estimator(limits);
 	ASSERT_TRUE(estimator.valid());
 	EstimatorConfig cfg;

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// A fixed set of threads, started once, that run the independent tasks of one
+// stage (the view search's rotations, ...) beside the calling thread. Nothing
+// is allocated per run; a task gets its index and the index of the thread
+// running it (0 = the caller), so per-thread scratch can be chosen without
+// locks. Which thread runs which task varies from run to run: callers write
+// results by task index and combine them in a fixed order, so the output is
+// the same for any number of threads.
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "core/common/function_ref.h"
+
+namespace ihf {
+
+class WorkerPool
+{
+public:
+	static constexpr int kMaxThreads = 8;
+
+	// threads: all threads a run uses, the caller included, in
+	// [1, kMaxThreads]; 0 picks the machine's cores (at most kMaxThreads).
+	explicit WorkerPool(int threads = 1);
+	~WorkerPool();
+	WorkerPool(const WorkerPool &) = delete;
+	WorkerPool &operator=(const WorkerPool &) = delete;
+
+	int threads() const { return static_cast<int>(workers_.size()) + 1; }
+	// The threads a pool made with `threads` has.
+	static int resolve(int threads);
+
+	// Runs task(i, thread) for every i in [0, tasks) and returns when all
+	// have finished. Not reentrant: a task must not call run().
+	void run(int tasks, FunctionRef<void(int task, int thread)> task);
+
+private:
+	void workerLoop(int thread);
+	void drain(int thread);
+
+	std::vector<std::thread> workers_; // sized in the constructor only
+	// A run's threads first spin briefly on the atomics, then sleep on the
+	// condition variables: a stage dispatches many short runs (a wake-up
+	// through the kernel alone costs ~25 us, measured), and a thread that
+	// has to wait longer should not burn its core.
+	std::mutex mutex_;
+	std::condition_variable start_, done_;
+	std::atomic<uint64_t> generation_{0}; // runs started
+	std::atomic<int> busy_{0};            // workers still in the current run
+	std::atomic<bool> stop_{false};
+	int sleepers_ = 0; // workers waiting on start_ (under mutex_)
+	FunctionRef<void(int, int)> task_;
+	int tasks_ = 0;
+	std::atomic<int> next_{0};
+};
+
+} // namespace ihf
