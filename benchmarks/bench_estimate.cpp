@@ -152,6 +152,7 @@ void BM_EstimateBox(benchmark::State &state)
 	const Setup &s = setup();
 	const app::EstimateSettings defaults;
 	EstimatorLimits limits = defaults.limits;
+	limits.threads = static_cast<int>(state.range(3));
 	app::growLimitsFor(limits, *s.model);
 	PoseEstimator estimator(limits);
 	if (!estimator.valid()) {
@@ -193,14 +194,17 @@ void BM_EstimateBox(benchmark::State &state)
 			ms.empty() ? 0.0 : 1e-6 * static_cast<double>(st.stages[k].totalNs) / static_cast<double>(ms.size());
 }
 
-// {k, icp, budget ms}
+// {k, icp, budget ms, threads}
 BENCHMARK(BM_EstimateBox)
-	->ArgNames({"k", "icp", "budget_ms"})
-	->Args({0, 0, 0})
-	->Args({0, 1, 0})
-	->Args({5, 0, 0})
-	->Args({5, 1, 0})
-	->Args({5, 1, 33})
+	->ArgNames({"k", "icp", "budget_ms", "threads"})
+	->Args({0, 0, 0, 1})
+	->Args({0, 1, 0, 1})
+	->Args({5, 0, 0, 1})
+	->Args({5, 1, 0, 1})
+	->Args({5, 1, 33, 1})
+	->Args({0, 1, 0, 2})
+	->Args({5, 1, 0, 2})
+	->Args({5, 1, 33, 2})
 	->Iterations(100)
 	->Unit(benchmark::kMillisecond);
 

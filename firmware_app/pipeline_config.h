@@ -33,7 +33,12 @@ struct TrainSettings {
 // kDeviceFrameBudgetMs frames.
 struct EstimateSettings {
 	EstimatorConfig estimator;
-	EstimatorLimits limits;
+	// The library runs one thread unless asked; the tool uses every core.
+	EstimatorLimits limits = [] {
+		EstimatorLimits l;
+		l.threads = 0;
+		return l;
+	}();
 	// Templates built at load for forest files written without them
 	// ([views] viewpoints, points).
 	ViewTemplateConfig viewTemplates;

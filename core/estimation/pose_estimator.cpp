@@ -86,9 +86,11 @@ bool PoseEstimator::carvePersistent(A &arena)
 template<typename A>
 bool PoseEstimator::carveBox(A &arena, size_t pixels)
 {
-	// One render buffer per pool thread.
-	return arenaTake(arena, working_, pixels) &&
-	       arenaTake(arena, render_, pixels * static_cast<size_t>(WorkerPool::resolve(limits_.threads))) &&
+	// One render buffer, and for the other threads' polishes one mask and
+	// one cloud, per pool thread.
+	const size_t others = static_cast<size_t>(WorkerPool::resolve(limits_.threads) - 1);
+	return arenaTake(arena, working_, pixels) && arenaTake(arena, render_, pixels * (others + 1)) &&
+	       arenaTake(arena, moreWorking_, pixels * others) && arenaTake(arena, moreClouds_, pixels * others) &&
 	       arenaTake(arena, cloud_, pixels) && arenaTake(arena, unit_, pixels) &&
 	       arenaTake(arena, normals_, pixels);
 }
@@ -159,7 +161,8 @@ PoseEstimator::BoxScope::~BoxScope()
 // Forgets the per-box spans; the arena scope that carved them rewinds.
 void PoseEstimator::releaseBox()
 {
-	working_ = render_ = {};
+	working_ = render_ = moreWorking_ = {};
+	moreClouds_ = {};
 	cloud_ = {};
 	unit_ = normals_ = {};
 }
@@ -394,6 +397,35 @@ PoseEstimator::Hypothesis PoseEstimator::polishIcp(const Hypothesis &h, const Ca
 	return out;
 }
 
+PoseEstimator::Hypothesis PoseEstimator::polishIcpIn(const Hypothesis &h, const CameraIntrinsics &K,
+						     const ObjectModel &model, const EstimatorConfig &config, int slot)
+{
+	const size_t pixels = static_cast<size_t>(observedView_.width) * observedView_.height;
+	const size_t at = pixels * static_cast<size_t>(std::max(0, slot - 1));
+	const std::span<float> mask = slot == 0 ? working_.first(pixels) : moreWorking_.subspan(at, pixels);
+	const std::span<CloudPoint> cloud = slot == 0 ? cloud_.first(pixels) : moreClouds_.subspan(at, pixels);
+	// maskToHypothesis() and buildCloud() into the slot's buffers.
+	const float lo = h.score.depthMin * config.psi1, hi = h.score.depthMax * config.psi2;
+	for (size_t i = 0; i < pixels; ++i) {
+		const float d = observed_[i];
+		mask[i] = (d > lo && d < hi) ? d : 0.0f;
+	}
+	const ImageView<float> maskView(mask.data(), observedView_.width, observedView_.height, observedView_.width);
+	auto points = cloudFromDepth(maskView, K, PixelBox{0, 0, maskView.width, maskView.height},
+				     model.params().cloud, cloud);
+	const int n = points ? *points : 0;
+	IcpResult icp = refineIcp(cloud.first(static_cast<size_t>(n)), model.renderMesh(), h.pose, K,
+				  rendererOf(slot), renderViewOf(slot), config.icpConfig);
+	Hypothesis out;
+	if (icp.iterations > 0) {
+		out.pose = icp.pose;
+		out.score = score(icp.pose, K, model, config, slot);
+		out.iteration = h.iteration;
+		out.valid = true;
+	}
+	return out;
+}
+
 // Renders the pose into renderView_ and calls f with every covered pixel
 // back-projected (camera frame); false if the render failed.
 template <typename F>
@@ -514,8 +546,15 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 				if (turns[k].valid)
 					insertTop(turns[k], top, nt, keepN);
 		}
+		// The kept turns' polishes side by side when there are threads.
+		Hypothesis polishedTurns[kMaxKeep];
+		if (config.icp && workers_.threads() > 1)
+			workers_.run(nt, [&](int j, int slot) { polishedTurns[j] = polishIcpIn(top[j], K, model, config, slot); });
+		else if (config.icp)
+			for (int j = 0; j < nt; ++j)
+				polishedTurns[j] = polishIcp(top[j], K, model, config, Stage::kHalfTurns);
 		for (int j = 0; j < nt; ++j) {
-			Hypothesis p = config.icp ? polishIcp(top[j], K, model, config, Stage::kHalfTurns) : Hypothesis{};
+			const Hypothesis &p = polishedTurns[j];
 			const Hypothesis &r = p.valid ? p : top[j];
 			report(r.iteration, "half_turn", c * keepN + j, r.pose, r.score, 0);
 			if (r.score.score > found.score.score)
@@ -932,45 +971,63 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	// wins. Each polish must fit the budget.
 	const bool polish = config.icp || config.search.levels > 0;
 	const size_t polishCount = polish ? std::min(keptCount_, static_cast<size_t>(std::max(0, config.icpCandidates))) : 0;
-	constexpr size_t kMaxPolished = 16;
+	constexpr size_t kMaxPolished = 64; // polishes per box at most
 	Hypothesis polished[kMaxPolished];
 	size_t polishedCount = 0;
-	for (size_t c = 0; c < polishCount; ++c) {
+	// Candidates are polished in rounds, one per pool thread (each polish on
+	// its own slot), and their results taken in candidate order as one
+	// thread would; the budget is checked before each round.
+	const size_t round = static_cast<size_t>(workers_.threads());
+	Hypothesis searched[kMaxPolished], icped[kMaxPolished];
+	for (size_t c0 = 0; c0 < std::min(polishCount, kMaxPolished); c0 += round) {
 		if (!icpFits()) {
 			out.icpSkipped = true;
 			break;
 		}
 		const int64_t icpStart = timer_.last();
-		Hypothesis cand = kept_[c];
-		if (config.search.levels > 0) {
-			LocalSearchResult r = localPoseSearch(cand.pose, cand.score.score, config.search,
-							      [&](const Pose &p) { return score(p, vk, model, config).score; });
-			if (r.score > cand.score.score) {
-				cand.pose = r.pose;
-				cand.score = score(r.pose, vk, model, config);
-				report(cand.iteration, "search", static_cast<int>(c), cand.pose, cand.score, 0);
-				if (cand.score.score > best.score.score) {
-					best = cand;
+		const size_t n = std::min(round, std::min(polishCount, kMaxPolished) - c0);
+		workers_.run(static_cast<int>(n), [&](int k, int slot) {
+			const size_t c = c0 + static_cast<size_t>(k);
+			Hypothesis cand = kept_[c];
+			searched[c] = Hypothesis{};
+			icped[c] = Hypothesis{};
+			if (config.search.levels > 0) {
+				LocalSearchResult r =
+					localPoseSearch(cand.pose, cand.score.score, config.search, [&](const Pose &p) {
+						return score(p, vk, model, config, slot).score;
+					});
+				if (r.score > cand.score.score) {
+					cand.pose = r.pose;
+					cand.score = score(r.pose, vk, model, config, slot);
+					searched[c] = cand;
+				}
+			}
+			// One thread: the stage counters see the cloud apart.
+			if (config.icp)
+				icped[c] = round == 1 ? polishIcp(cand, vk, model, config, Stage::kIcp)
+						      : polishIcpIn(cand, vk, model, config, slot);
+			polished[c] = icped[c].valid ? icped[c] : cand;
+		});
+		for (size_t c = c0; c < c0 + n; ++c) {
+			if (searched[c].valid) {
+				report(searched[c].iteration, "search", static_cast<int>(c), searched[c].pose,
+				       searched[c].score, 0);
+				if (searched[c].score.score > best.score.score) {
+					best = searched[c];
+					out.icpApplied = true;
+				}
+			}
+			if (icped[c].valid) {
+				report(icped[c].iteration, "icp", static_cast<int>(c), icped[c].pose, icped[c].score, 0);
+				if (icped[c].score.score > best.score.score) {
+					best = icped[c];
 					out.icpApplied = true;
 				}
 			}
 		}
-		Hypothesis result = cand;
-		if (config.icp) {
-			Hypothesis p = polishIcp(cand, vk, model, config, Stage::kIcp);
-			if (p.valid) {
-				report(p.iteration, "icp", static_cast<int>(c), p.pose, p.score, 0);
-				if (p.score.score > best.score.score) {
-					best = p;
-					out.icpApplied = true;
-				}
-				result = p;
-			}
-		}
-		if (polishedCount < kMaxPolished)
-			polished[polishedCount++] = result;
-		// The cost model sees the whole polish (its cloud is counted
-		// under the cloud stage).
+		polishedCount = c0 + n;
+		// The cost model sees the whole round (its clouds are counted
+		// under the cloud stage on one thread, under ICP on more).
 		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart);
 	}
 	if (halfTurnsEnabled(config.halfTurns)) {

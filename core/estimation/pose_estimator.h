@@ -255,6 +255,11 @@ private:
 	// it is charged to `stage`, the ICP and its score to kIcp.
 	Hypothesis polishIcp(const Hypothesis &h, const CameraIntrinsics &K, const ObjectModel &model,
 			     const EstimatorConfig &config, Stage stage);
+	// The same on a pool thread's slot (its own mask, cloud and render),
+	// without the clock: the caller charges the round, and the clock is
+	// read by the calling thread alone.
+	Hypothesis polishIcpIn(const Hypothesis &h, const CameraIntrinsics &K, const ObjectModel &model,
+			       const EstimatorConfig &config, int slot);
 	// The first `max` distinct translations (0.1 diameter apart) of kept_.
 	int keptCentres(double diameter, int max, Eigen::Vector3d *centres) const;
 	void report(int iteration, const char *stage, int rank, const Pose &virtualPose,
@@ -333,6 +338,8 @@ private:
 	std::span<float> working_;  // masked crop (Eq. 10)
 	std::span<float> render_;
 	std::span<CloudPoint> cloud_;
+	std::span<float> moreWorking_;       // the other slots' masks (threads - 1 windows)
+	std::span<CloudPoint> moreClouds_;   // and clouds
 	std::span<Eigen::Vector3f> unit_, normals_;
 	ImageView<float> observedView_, workingView_, renderView_;
 };

@@ -134,6 +134,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.icpCandidates, b.icpCandidates);
 	EXPECT_EQ(a.targetParts, b.targetParts);
 	EXPECT_EQ(a.frameBudgetMs, b.frameBudgetMs);
+	EXPECT_EQ(none->limits.threads, bundled->limits.threads);
 	EXPECT_EQ(a.search.levels, b.search.levels);
 	EXPECT_EQ(a.bank.viewpoints, b.bank.viewpoints);
 	EXPECT_EQ(a.score.outlierWeight, b.score.outlierWeight);

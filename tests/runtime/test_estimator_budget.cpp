@@ -284,5 +284,65 @@ TEST_F(EstimatorBudget, WithoutItsArenaTheEstimatorSaysSo)
 	EXPECT_STREQ(r.reason, "estimator has no memory (arena allocation failed)");
 }
 
+// With threads the clock is still read by the calling thread alone, so the
+// budget holds as with one: refinement cut short within the frame, the
+// polish rounds (two candidates a round) and half-turns under the check.
+TEST_F(EstimatorBudget, BudgetRespectedWithThreads)
+{
+	for (float budget : {40.0f, 70.0f, 120.0f}) {
+		test::StepClock clock(kMs);
+		EstimatorLimits limits;
+		limits.threads = 2;
+		PoseEstimator e(limits, &clock);
+		EstimatorConfig c = config(50, budget, true);
+		c.icpCandidates = 4;
+		c.halfTurns = HalfTurnConfig{1, 8, 1};
+		PoseEstimate r = run(e, c);
+		ASSERT_TRUE(r.found) << r.reason;
+		EXPECT_TRUE(r.budgetStopped);
+		EstimatorStats s = e.stats();
+		EXPECT_LE(s.worstFrameNs, static_cast<int64_t>(budget) * kMs) << budget;
+		EXPECT_EQ(s.frameOverruns + s.boxOverruns, 0u) << budget;
+	}
+	// Ample time: the same pose as one thread.
+	EstimatorConfig c = config(3, 1e6f, true);
+	c.icpCandidates = 4;
+	auto [one, s1] = runFresh(c);
+	test::StepClock clock(kMs);
+	EstimatorLimits limits;
+	limits.threads = 2;
+	PoseEstimator e(limits, &clock);
+	PoseEstimate two = run(e, c);
+	ASSERT_TRUE(one.found && two.found);
+	EXPECT_TRUE(one.pose.R == two.pose.R);
+	EXPECT_TRUE(one.pose.t == two.pose.t);
+	EXPECT_EQ(two.iterationsDone, 3);
+	EXPECT_FALSE(two.icpSkipped);
+}
+
+// Every thread beyond the first adds a renderer, a render buffer, a mask
+// and a cloud per box, and scratch for the vote modes, forest walk and view
+// search; the sizing function knows.
+TEST_F(EstimatorBudget, ArenaGrowsWithTheThreadsAndMatchesItsSizing)
+{
+	EstimatorLimits one;
+	EstimatorLimits three = one;
+	three.threads = 3;
+	EXPECT_GT(PoseEstimator::arenaBytes(three), PoseEstimator::arenaBytes(one));
+	PoseEstimator e(three);
+	ASSERT_TRUE(e.valid());
+	EXPECT_EQ(e.arenaCapacity(), PoseEstimator::arenaBytes(three));
+	const size_t persistent = e.stats().arenaPersistent;
+	PoseEstimate r = run(e, config(1, 0.0f, true));
+	ASSERT_TRUE(r.found);
+	EstimatorStats s = e.stats();
+	const size_t px = static_cast<size_t>(s.peaks.windowPixels);
+	const size_t box = Arena::footprint<float>(px) + Arena::footprint<float>(3 * px) +
+			   Arena::footprint<float>(2 * px) + Arena::footprint<CloudPoint>(2 * px) +
+			   Arena::footprint<CloudPoint>(px) + 2 * Arena::footprint<Eigen::Vector3f>(px);
+	EXPECT_EQ(s.arenaHighWater, persistent + box);
+	EXPECT_LE(s.arenaHighWater, s.arenaCapacity);
+}
+
 } // namespace
 } // namespace ihf
