@@ -15,7 +15,8 @@
 #
 # Writes OUTDIR/NAME.{csv,eval.json,stats.json,eval.txt,log}, OUTDIR/pr_NAME.png
 # and OUTDIR/table.md, and prints the table. Needs build/bin/ihf and
-# build/bin/ihf_peers (-DIHF_BUILD_PEERS=ON). Every method runs on one thread.
+# build/bin/ihf_peers (-DIHF_BUILD_PEERS=ON). Every method runs on one thread
+# (ihf estimate --threads 1, OMP_NUM_THREADS=1).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 bin=${IHF_BIN_DIR:-$root/build/bin}
@@ -54,7 +55,7 @@ ihfRun() { # name, prep seconds, forest args..., options...
 	local name=$1 prep=$2; shift 2
 	echo "run.sh: $name" >&2
 	"$ihf" estimate --dataset "$dataset" --boxes "$boxes" --config "$config" --out "$out/$name.csv" \
-		--stats-json "$out/$name.stats.json" --budget-ms 0 --quiet "$@" > "$out/$name.log" 2>&1
+		--stats-json "$out/$name.stats.json" --budget-ms 0 --threads 1 --quiet "$@" > "$out/$name.log" 2>&1
 	echo "${prep:-null}" > "$out/$name.prep"
 	score "$name"
 }

@@ -167,10 +167,18 @@ void PoseEstimator::releaseBox()
 	unit_ = normals_ = {};
 }
 
+// One vote pass, predicted from the refinement iterations and the initial
+// registrations seen so far (a registration of several slabs is observed as
+// one: an over-estimate, which keeps the budget safe).
+int64_t PoseEstimator::passCost() const
+{
+	return costs_.predict({Stage::kCloud, Stage::kNormalise, Stage::kIbsFit, Stage::kParts, Stage::kHocp,
+			       Stage::kForest, Stage::kModes, Stage::kScore});
+}
+
 bool PoseEstimator::refinementFits(const EstimatorConfig &config)
 {
-	int64_t predicted = costs_.predict({Stage::kCloud, Stage::kNormalise, Stage::kIbsFit, Stage::kParts,
-					    Stage::kHocp, Stage::kForest, Stage::kModes, Stage::kScore});
+	int64_t predicted = passCost();
 	// Keep room for the polish after the last iteration.
 	if (config.icp)
 		predicted += costs_.average(Stage::kIcp);
@@ -915,6 +923,13 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		const size_t passes = k == 0 ? std::max<size_t>(1, windows) : 1;
 		Hypothesis iterBest;
 		for (size_t pass = 0; pass < passes; ++pass) {
+			// The first slab always runs (every box gets a pose); a
+			// further one only if a pass still fits, with room for the
+			// polish after it (as for a refinement iteration).
+			if (pass > 0 && !refinementFits(config)) {
+				out.budgetStopped = true;
+				break;
+			}
 			if (k == 0 && windows > 0)
 				maskToRange(windows_[pass].nearMm, windows_[pass].farMm);
 			int n = buildCloud(workingView_, vk, params);

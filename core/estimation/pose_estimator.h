@@ -284,6 +284,7 @@ private:
 	template<typename A>
 	bool carveBox(A &arena, size_t pixels);
 	void releaseBox();
+	int64_t passCost() const;
 	bool refinementFits(const EstimatorConfig &config);
 	bool icpFits();
 	bool fitsBudget(int64_t predictedNs, uint64_t &refusals);

@@ -181,6 +181,8 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[score]\nresidual_weight = 1.5\n", "score.residual_weight"},
 		     {"[votes]\nrotation_modes = 0\n", "votes.rotation_modes"},
 		     {"[votes]\nmax_shift_votes = -1\n", "votes.max_shift_votes"},
+		     {"[limits]\nthreads = 9\n", "limits.threads"},
+		     {"[limits]\nthreads = -1\n", "limits.threads"},
 		     {"[refinement]\npsi1 = 1.1\npsi2 = 1.0\n", "refinement.psi1/psi2"}}) {
 		std::ofstream(dir / "e.toml") << text;
 		auto s = loadEstimateConfig(dir / "e.toml");

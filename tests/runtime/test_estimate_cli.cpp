@@ -50,11 +50,12 @@ std::filesystem::path *EstimateCli::dir_ = nullptr;
 TEST_F(EstimateCli, ReportsStagesBudgetAndArena)
 {
 	const auto json = *dir_ / "stats.json";
-	// One vote pass per iteration and one ICP polish per box, so that the
-	// stage calls below can be counted exactly.
+	// One vote pass per iteration and one ICP polish per box, on one thread
+	// (on more, a polish's cloud is charged to ICP), so that the stage calls
+	// below can be counted exactly.
 	const auto cfg = *dir_ / "single_pass.toml";
 	std::ofstream(cfg) << "[refinement]\ndepth_windows = 0\n[icp]\ncandidates = 1\n";
-	auto r = test::runIhf(args("--iterations 1 --budget-ms 0 --config '" + cfg.string() + "' --stats-json '" +
+	auto r = test::runIhf(args("--iterations 1 --budget-ms 0 --threads 1 --config '" + cfg.string() + "' --stats-json '" +
 				   json.string() + "'"));
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	EXPECT_NE(r.output.find("time per stage"), std::string::npos) << r.output;

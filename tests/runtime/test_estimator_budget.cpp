@@ -344,5 +344,47 @@ TEST_F(EstimatorBudget, ArenaGrowsWithTheThreadsAndMatchesItsSizing)
 	EXPECT_LE(s.arenaHighWater, s.arenaCapacity);
 }
 
+// The initial registration's further depth slabs are anytime too: the
+// first always runs, the second only if a pass still fits (a device frame
+// that holds one pass is kept instead of overrun by the second).
+TEST_F(EstimatorBudget, AFurtherDepthSlabRunsOnlyIfItFits)
+{
+	// A wall behind the object: two dense slabs in the box.
+	DepthImageMm depth(depth_->width(), depth_->height(), 0.0f);
+	for (int y = 0; y < depth.height(); ++y)
+		for (int x = 0; x < depth.width(); ++x)
+			depth.at(x, y) = depth_->at(x, y) > 0 ? depth_->at(x, y) : 1000.0f;
+	EstimatorConfig c = config(0, 0.0f);
+	c.depthWindows = 2;
+	test::StepClock clock(kMs);
+	PoseEstimator e({}, &clock);
+	auto clouds = [&] { return e.stats().stages[static_cast<int>(Stage::kCloud)].calls; };
+	auto runIn = [&](float budgetMs) {
+		e.beginFrame(1, budgetMs);
+		PoseEstimate r = e.estimate(depth.view(), test::kKinect, box_, *model_->model, c);
+		e.endFrame();
+		return r;
+	};
+	PoseEstimate warm = runIn(0.0f); // unlimited: both slabs
+	ASSERT_TRUE(warm.found) << warm.reason;
+	ASSERT_EQ(clouds(), 2u);
+	const int64_t twoSlabs = e.stats().worstFrameNs;
+
+	uint64_t before = clouds();
+	PoseEstimate tight = runIn(0.75f * static_cast<float>(twoSlabs) / kMs);
+	ASSERT_TRUE(tight.found) << tight.reason;
+	EXPECT_EQ(clouds() - before, 1u); // the second slab did not fit
+	EXPECT_TRUE(tight.budgetStopped);
+	EstimatorStats s = e.stats();
+	EXPECT_EQ(s.frameOverruns, 0u);
+	EXPECT_EQ(s.budgetStops, 1u);
+
+	before = clouds();
+	PoseEstimate ample = runIn(3.0f * static_cast<float>(twoSlabs) / kMs);
+	ASSERT_TRUE(ample.found);
+	EXPECT_EQ(clouds() - before, 2u);
+	EXPECT_FALSE(ample.budgetStopped);
+}
+
 } // namespace
 } // namespace ihf
