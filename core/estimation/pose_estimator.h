@@ -23,10 +23,12 @@
 //
 // Frame budget: beginFrame()/endFrame() bracket the boxes of one frame,
 // which share EstimatorConfig::frameBudgetMs (a lone estimate() call is a
-// frame of one box). The crop and the initial registration always run; each
-// refinement iteration, and the ICP polish, runs only if its cost predicted
-// from the measured per-stage running averages fits in the box's share, so
-// refinement is anytime: cut short, it returns the best hypothesis so far.
+// frame of one box). The crop and the initial registration's first depth
+// slab always run; each further slab, each refinement iteration (both with
+// room for the polish after them), and the ICP polish, runs only if its cost
+// predicted from the measured per-stage running averages fits in the box's
+// share, so the estimate is anytime: cut short, it returns the best
+// hypothesis so far.
 // Per-stage times, budget stops and overruns are counted (stats()).
 
 #include <optional>
