@@ -392,17 +392,34 @@ PoseEstimator::Hypothesis PoseEstimator::polishIcp(const Hypothesis &h, const Ca
 	timer_.resume(stage);
 	maskToHypothesis(h.score, config);
 	const int n = buildCloud(workingView_, K, model.params());
-	IcpResult icp = refineIcp(std::span(cloud_.data(), n), model.renderMesh(), h.pose, K, renderer_,
-				  renderView_, config.icpConfig);
+	Hypothesis out = icpAndScore(h, cloud_.first(static_cast<size_t>(n)), K, model, config, 0);
+	timer_.resume(Stage::kIcp);
+	return out;
+}
+
+PoseEstimator::Hypothesis PoseEstimator::icpAndScore(const Hypothesis &h, std::span<const CloudPoint> cloud,
+						     const CameraIntrinsics &K, const ObjectModel &model,
+						     const EstimatorConfig &config, int slot)
+{
+	IcpResult icp = refineIcp(cloud, model.renderMesh(), h.pose, K, rendererOf(slot), renderViewOf(slot),
+				  config.icpConfig);
 	Hypothesis out;
 	if (icp.iterations > 0) {
 		out.pose = icp.pose;
-		out.score = score(icp.pose, K, model, config);
+		out.score = score(icp.pose, K, model, config, slot);
 		out.iteration = h.iteration;
 		out.valid = true;
 	}
-	timer_.resume(Stage::kIcp);
 	return out;
+}
+
+PoseEstimator::Hypothesis PoseEstimator::polishOn(const Hypothesis &h, const CameraIntrinsics &K,
+						  const ObjectModel &model, const EstimatorConfig &config, Stage stage,
+						  int slot)
+{
+	// One thread: the stage counters see the cloud apart.
+	return workers_.threads() == 1 ? polishIcp(h, K, model, config, stage)
+				       : polishIcpIn(h, K, model, config, slot);
 }
 
 PoseEstimator::Hypothesis PoseEstimator::polishIcpIn(const Hypothesis &h, const CameraIntrinsics &K,
@@ -412,26 +429,14 @@ PoseEstimator::Hypothesis PoseEstimator::polishIcpIn(const Hypothesis &h, const 
 	const size_t at = pixels * static_cast<size_t>(std::max(0, slot - 1));
 	const std::span<float> mask = slot == 0 ? working_.first(pixels) : moreWorking_.subspan(at, pixels);
 	const std::span<CloudPoint> cloud = slot == 0 ? cloud_.first(pixels) : moreClouds_.subspan(at, pixels);
-	// maskToHypothesis() and buildCloud() into the slot's buffers.
-	const float lo = h.score.depthMin * config.psi1, hi = h.score.depthMax * config.psi2;
-	for (size_t i = 0; i < pixels; ++i) {
-		const float d = observed_[i];
-		mask[i] = (d > lo && d < hi) ? d : 0.0f;
-	}
+	// maskToHypothesis() and buildCloud() into the slot's buffers, without
+	// the clock.
+	maskToRange(h.score.depthMin * config.psi1, h.score.depthMax * config.psi2, mask);
 	const ImageView<float> maskView(mask.data(), observedView_.width, observedView_.height, observedView_.width);
 	auto points = cloudFromDepth(maskView, K, PixelBox{0, 0, maskView.width, maskView.height},
 				     model.params().cloud, cloud);
 	const int n = points ? *points : 0;
-	IcpResult icp = refineIcp(cloud.first(static_cast<size_t>(n)), model.renderMesh(), h.pose, K,
-				  rendererOf(slot), renderViewOf(slot), config.icpConfig);
-	Hypothesis out;
-	if (icp.iterations > 0) {
-		out.pose = icp.pose;
-		out.score = score(icp.pose, K, model, config, slot);
-		out.iteration = h.iteration;
-		out.valid = true;
-	}
-	return out;
+	return icpAndScore(h, cloud.first(static_cast<size_t>(n)), K, model, config, slot);
 }
 
 // Renders the pose into renderView_ and calls f with every covered pixel
@@ -556,11 +561,10 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 		}
 		// The kept turns' polishes side by side when there are threads.
 		Hypothesis polishedTurns[kMaxKeep];
-		if (config.icp && workers_.threads() > 1)
-			workers_.run(nt, [&](int j, int slot) { polishedTurns[j] = polishIcpIn(top[j], K, model, config, slot); });
-		else if (config.icp)
-			for (int j = 0; j < nt; ++j)
-				polishedTurns[j] = polishIcp(top[j], K, model, config, Stage::kHalfTurns);
+		if (config.icp)
+			workers_.run(nt, [&](int j, int slot) {
+				polishedTurns[j] = polishOn(top[j], K, model, config, Stage::kHalfTurns, slot);
+			});
 		for (int j = 0; j < nt; ++j) {
 			const Hypothesis &p = polishedTurns[j];
 			const Hypothesis &r = p.valid ? p : top[j];
@@ -838,10 +842,15 @@ void PoseEstimator::maskToHypothesis(const HypothesisScore &s, const EstimatorCo
 
 void PoseEstimator::maskToRange(float lo, float hi)
 {
+	maskToRange(lo, hi, working_);
+}
+
+void PoseEstimator::maskToRange(float lo, float hi, std::span<float> out) const
+{
 	const size_t n = static_cast<size_t>(observedView_.width) * observedView_.height;
 	for (size_t i = 0; i < n; ++i) {
 		float d = observed_[i];
-		working_[i] = (d > lo && d < hi) ? d : 0.0f;
+		out[i] = (d > lo && d < hi) ? d : 0.0f;
 	}
 }
 
@@ -1017,10 +1026,8 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 					searched[c] = cand;
 				}
 			}
-			// One thread: the stage counters see the cloud apart.
 			if (config.icp)
-				icped[c] = round == 1 ? polishIcp(cand, vk, model, config, Stage::kIcp)
-						      : polishIcpIn(cand, vk, model, config, slot);
+				icped[c] = polishOn(cand, vk, model, config, Stage::kIcp, slot);
 			polished[c] = icped[c].valid ? icped[c] : cand;
 		});
 		for (size_t c = c0; c < c0 + n; ++c) {

@@ -262,6 +262,12 @@ private:
 	// read by the calling thread alone.
 	Hypothesis polishIcpIn(const Hypothesis &h, const CameraIntrinsics &K, const ObjectModel &model,
 			       const EstimatorConfig &config, int slot);
+	// polishIcp() on one thread, polishIcpIn() on several.
+	Hypothesis polishOn(const Hypothesis &h, const CameraIntrinsics &K, const ObjectModel &model,
+			    const EstimatorConfig &config, Stage stage, int slot);
+	// Their shared tail: ICP from the cloud on the slot's renderer, then the score.
+	Hypothesis icpAndScore(const Hypothesis &h, std::span<const CloudPoint> cloud, const CameraIntrinsics &K,
+			       const ObjectModel &model, const EstimatorConfig &config, int slot);
 	// The first `max` distinct translations (0.1 diameter apart) of kept_.
 	int keptCentres(double diameter, int max, Eigen::Vector3d *centres) const;
 	void report(int iteration, const char *stage, int rank, const Pose &virtualPose,
@@ -277,6 +283,7 @@ private:
 	void setRenderViews(int w, int h);
 	void maskToHypothesis(const HypothesisScore &s, const EstimatorConfig &config);
 	void maskToRange(float lo, float hi);
+	void maskToRange(float lo, float hi, std::span<float> out) const;
 
 	// Members only, no arena: for arenaBytes().
 	PoseEstimator(const EstimatorLimits &limits, const Clock *clock, int);
