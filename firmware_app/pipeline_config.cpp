@@ -337,6 +337,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	views.get("centres", e.views.centres);
 	views.get("depth_centres", e.views.depthCentres);
 	views.get("lateral_step_mm", e.views.lateralStepMm);
+	views.get("rotation_step_deg", e.views.rotationStepDeg);
 	views.get("anchor_share", e.views.anchorShare);
 	views.get("refine_top", e.views.refineTop);
 	views.get("keep", e.views.keep);
@@ -405,6 +406,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.views.centres >= 1 && e.views.centres <= 4, "view_search.centres"),
 			  inRange(e.views.depthCentres >= 0 && e.views.depthCentres <= 4, "view_search.depth_centres"),
 			  inRange(e.views.lateralStepMm >= 0, "view_search.lateral_step_mm"),
+			  inRange(e.views.rotationStepDeg >= 0 && e.views.rotationStepDeg <= 45,
+				  "view_search.rotation_step_deg"),
 			  inRange(e.views.anchorShare > 0 && e.views.anchorShare <= 1, "view_search.anchor_share"),
 			  inRange(e.views.refineTop >= 1 && e.views.refineTop <= kMaxRefineTop, "view_search.refine_top"),
 			  inRange(e.views.keep >= 1 && e.views.keep <= 16, "view_search.keep"),

@@ -290,7 +290,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	};
 	// The last pass proposes into `wide` when the lateral climb is on, into
 	// `out` directly otherwise.
-	const bool climb = config.lateralStepMm > 0;
+	const bool climb = config.lateralStepMm > 0 || config.rotationStepDeg > 0;
 	std::array<ViewProposal, kMaxRefineTop> wideStorage;
 	const std::span<ViewProposal> wide =
 		climb ? std::span<ViewProposal>(wideStorage.data(),
@@ -308,32 +308,76 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		p.turn = turn;
 		count = insertProposal(wide, count, p, distinct);
 	};
-	// Sideways hill climb of one proposal's sparse score; depth re-aligned
-	// at every step.
+	// Hill climb of one proposal's sparse score: sideways moves and, when
+	// rotationStepDeg > 0, small turns about the camera axes through the
+	// model origin (the template grid is ~10 deg coarse: the truth's
+	// nearest template can score below a wrong rotation's); depth
+	// re-aligned at every step. The view's visible points are kept: a
+	// turn of a few degrees hardly changes which points are visible.
 	auto climbSideways = [&](ViewProposal &p, RotatedView &r, EvalScratch &s) {
 		rotateView(r, p.view, 1, s);
-		const TurnedView tv = turnedView(r.points.data(), r.m, p.turn);
+		const TurnedView base = turnedView(r.points.data(), r.m, p.turn);
+		const bool turning = config.rotationStepDeg > 0;
+		// With turns: the points in camera axes (turned in-plane too),
+		// the current one in `cur`, a trial in `trial`.
+		std::array<Eigen::Vector3f, kMaxViewPoints> cur, trial;
+		if (turning)
+			for (int i = 0; i < r.m; ++i) {
+				const Eigen::Vector3f &a = r.points[i];
+				cur[i] = {base.c * a.x() - base.s * a.y(), base.s * a.x() + base.c * a.y(), a.z()};
+			}
+		Eigen::Matrix3f turned = Eigen::Matrix3f::Identity();
+		const TurnedView curView = turning ? TurnedView{cur.data(), r.m, 1.0f, 0.0f} : base;
+		const TurnedView trialView{trial.data(), r.m, 1.0f, 0.0f};
 		Eigen::Vector3f t = p.pose.t.cast<float>();
 		float best = p.score;
-		for (float step = config.lateralStepMm; step > 0.2f * config.lateralStepMm; step *= 0.5f) {
+		const float lateral = config.lateralStepMm, angle = config.rotationStepDeg * static_cast<float>(M_PI / 180.0);
+		for (int level = 0; level < 3; ++level) {
+			const float step = lateral * std::ldexp(1.0f, -level);
+			const float turn = angle * std::ldexp(1.0f, -level);
 			for (int pass = 0; pass < 3; ++pass) {
 				Eigen::Vector3f bestT = t;
-				for (int d = 0; d < 4; ++d) {
+				int bestMove = -1;
+				for (int d = 0; d < 4 && step > 0; ++d) {
 					Eigen::Vector3f c = t;
 					c[d / 2] += (d % 2 ? step : -step);
-					const float sc = scorer.score(scorer.aligned(tv, c, s.res.data()), tv.n);
+					const float sc = scorer.score(scorer.aligned(curView, c, s.res.data()), curView.n);
 					if (sc > best) {
 						best = sc;
 						bestT = c;
+						bestMove = d;
 					}
 				}
-				if (bestT == t)
+				Eigen::Matrix3f bestD = Eigen::Matrix3f::Identity();
+				for (int d = 0; d < 6 && turning; ++d) {
+					const Eigen::Matrix3f D =
+						Eigen::AngleAxisf(d % 2 ? turn : -turn, Eigen::Vector3f::Unit(d / 2))
+							.toRotationMatrix();
+					for (int i = 0; i < r.m; ++i)
+						trial[i] = D * cur[i];
+					Eigen::Vector3f c = t;
+					const float sc = scorer.score(scorer.aligned(trialView, c, s.res.data()), trialView.n);
+					if (sc > best) {
+						best = sc;
+						bestT = c;
+						bestMove = 4 + d;
+						bestD = D;
+					}
+				}
+				if (bestMove < 0)
 					break;
 				t = bestT;
+				if (bestMove >= 4) {
+					for (int i = 0; i < r.m; ++i)
+						cur[i] = bestD * cur[i];
+					turned = bestD * turned;
+				}
 			}
 		}
 		p.score = best;
 		p.pose.t = t.cast<double>();
+		if (turning)
+			p.pose.R = turned.cast<double>() * p.pose.R;
 	};
 	// The climbed proposals, best distinct first, into `out`. Each climbs
 	// on its own, so they are spread over the threads.

@@ -63,7 +63,11 @@ struct ViewSearchConfig {
 	// lateralStepMm, halved twice, depth re-aligned at each) before the
 	// `keep` best are chosen. 0: off.
 	float lateralStepMm = 4.0f;
-	int refineTop = 24; // at most kMaxRefineTop
+	// The same climb also turns about the camera axes by this much (halved
+	// twice): the template grid's rotations are up to ~10 deg from any
+	// pose. 0: sideways only.
+	float rotationStepDeg = 8.0f;
+	int refineTop = 64; // at most kMaxRefineTop
 };
 
 // Which axes of the window (the given box) may centre a rotation: a side on

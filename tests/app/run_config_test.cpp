@@ -145,6 +145,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.views.depthCentres, b.views.depthCentres);
 	EXPECT_EQ(a.views.anchorShare, b.views.anchorShare);
 	EXPECT_EQ(a.views.lateralStepMm, b.views.lateralStepMm);
+	EXPECT_EQ(a.views.rotationStepDeg, b.views.rotationStepDeg);
 	EXPECT_EQ(a.views.refineTop, b.views.refineTop);
 	EXPECT_EQ(a.views.maxShiftMm, b.views.maxShiftMm);
 	EXPECT_EQ(a.views.inlierMm, b.views.inlierMm);
@@ -173,6 +174,7 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\ndepth_centres = 5\n", "view_search.depth_centres"},
 		     {"[view_search]\nanchor_share = 0\n", "view_search.anchor_share"},
 		     {"[view_search]\nlateral_step_mm = -1\n", "view_search.lateral_step_mm"},
+		     {"[view_search]\nrotation_step_deg = 50\n", "view_search.rotation_step_deg"},
 		     {"[view_search]\nrefine_top = 65\n", "view_search.refine_top"},
 		     {"[search]\nlevels = -1\n", "search.levels"},
 		     {"[half_turns]\ncandidates = 5\n", "half_turns.candidates"},

@@ -4,7 +4,8 @@
 // by 20 mm in depth the search finds the rotation of a clean render, and of
 // one half hidden behind an occluder; with no voted centre at all, from the
 // box's ray and a depth; a sideways climb undoes a box centre off by
-// millimetres; it is off without turns or templates.
+// millimetres, and its turns bring rotations closer than the template grid;
+// it is off without turns or templates.
 
 #include <cstdio>
 #include <random>
@@ -286,9 +287,10 @@ TEST_F(ViewSearchTest, ResidualWeightSeparatesTheTrueRotationFurther)
 	std::mt19937_64 rng(23);
 	ViewSearchConfig plain;
 	plain.keep = 2;
-	// Without the sideways climb both runs see the same translations, so
-	// the weighted best can only score lower.
+	// Without the climb both runs see the same translations and
+	// rotations, so the weighted best can only score lower.
 	plain.lateralStepMm = 0.0f;
+	plain.rotationStepDeg = 0.0f;
 	ViewSearchConfig weighted = plain;
 	weighted.residualWeight = 1.0f;
 	const int trials = 10;
@@ -362,6 +364,7 @@ TEST_F(ViewSearchTest, LateralClimbUndoesABoxCentreOffByMillimetres)
 	std::mt19937_64 rng(31);
 	ViewSearchConfig plain;
 	plain.lateralStepMm = 0.0f;
+	plain.rotationStepDeg = 0.0f;
 	ViewSearchConfig climbing = plain;
 	climbing.lateralStepMm = 4.0f;
 	const int trials = 10;
@@ -387,6 +390,49 @@ TEST_F(ViewSearchTest, LateralClimbUndoesABoxCentreOffByMillimetres)
 	EXPECT_GE(found, trials * 6 / 10); // measured 7 of 10, 3 without the climb
 
 	EXPECT_GT(found, foundPlain + 2);
+}
+
+// The template grid's rotations are up to ~10 deg from a pose. The climb's
+// turns bring the best proposals' rotations closer to the truth (and they
+// must reach the proposals' poses).
+TEST_F(ViewSearchTest, TurningClimbBringsRotationsCloserThanTheGrid)
+{
+	std::mt19937_64 rng(47);
+	ViewSearchConfig sideways;
+	sideways.rotationStepDeg = 0.0f;
+	ViewSearchConfig turning = sideways;
+	turning.rotationStepDeg = 8.0f;
+	const int trials = 10;
+	double errTurning = 0, errSideways = 0;
+	int both = 0;
+	auto closest = [](const ViewProposal *top, size_t n, const Pose &truth) {
+		double best = 180;
+		for (size_t j = 0; j < n; ++j)
+			if ((top[j].pose.t - truth.t).norm() < 15)
+				best = std::min(best, rotationAngle(top[j].pose.R, truth.R) * 180.0 / M_PI);
+		return best;
+	};
+	for (int i = 0; i < trials; ++i) {
+		std::vector<float> depth;
+		const Pose truth = centredPose(rng, depth);
+		ImageView<const float> view(depth.data(), K_.width, K_.height, K_.width);
+		const Eigen::Vector3d voted(0, 0, truth.t.z() + 10);
+		ViewProposal top[6];
+		const double a = closest(top, searchViews(templates(), turning, view, K_, voted, top), truth);
+		const size_t n = searchViews(templates(), turning, view, K_, voted, top);
+		for (size_t j = 1; j < n; ++j)
+			EXPECT_GE(top[j - 1].score, top[j].score);
+		const double b = closest(top, searchViews(templates(), sideways, view, K_, voted, top), truth);
+		if (a < 20 && b < 20) {
+			errTurning += a;
+			errSideways += b;
+			++both;
+		}
+	}
+	ASSERT_GE(both, trials * 6 / 10);
+	RecordProperty("mean_deg_turning", std::to_string(errTurning / both));
+	RecordProperty("mean_deg_sideways", std::to_string(errSideways / both));
+	EXPECT_LT(errTurning, 0.8 * errSideways); // measured 5.7 against 8.7 deg
 }
 
 TEST_F(ViewSearchTest, OffWithoutTurnsOrTemplates)
