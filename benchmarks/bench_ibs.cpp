@@ -204,6 +204,35 @@ BENCHMARK(BM_Fit)
 	->ArgsProduct({{0, 1, 2}, {kCg, kCgWarm, kMba, kBa1}, {50, 80, 100}})
 	->Unit(benchmark::kMillisecond);
 
+// Args: view, threads. The default fit (CG, N = 50) with its products
+// spread over a pool, as the estimator runs it.
+void BM_FitThreads(benchmark::State &state)
+{
+	const View &v = views()[state.range(0)];
+	const int threads = static_cast<int>(state.range(1));
+	const IbsConfig cfg = solverConfig(kCg, 50);
+	IbsLimits limits = benchLimits();
+	limits.threads = threads;
+	WorkerPool pool(threads);
+	IbsFitter fitter(limits);
+	std::vector<ControlPoint> cps(limits.maxActive);
+	IbsFitStats stats;
+	for (auto _ : state) {
+		auto s = fitter.fit(v.unit, v.normals, cfg, cps, {}, &pool);
+		if (!s) {
+			state.SkipWithError(s.error().message.c_str());
+			return;
+		}
+		stats = *s;
+		benchmark::DoNotOptimize(cps.data());
+	}
+	state.counters["active"] = stats.activeCount;
+	state.counters["constraints"] = stats.constraints;
+	state.counters["iters"] = stats.iterations;
+	state.SetLabel(v.name + "/threads" + std::to_string(threads));
+}
+BENCHMARK(BM_FitThreads)->ArgsProduct({{0, 1, 2}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // A fitted view with its parts, shared by the part and HoCP benchmarks.
 struct Fitted {
 	std::vector<ControlPoint> cps;

@@ -23,6 +23,7 @@ IbsLimits ibsLimits(const EstimatorLimits &limits)
 	ibs.maxN = limits.maxIbsN;
 	ibs.maxPoints = limits.maxIbsPoints;
 	ibs.maxActive = limits.maxActive;
+	ibs.threads = WorkerPool::resolve(limits.threads);
 	return ibs;
 }
 
@@ -639,7 +640,7 @@ int PoseEstimator::voteOnce(const CameraIntrinsics &K, const ObjectModel &model,
 	std::span<const CloudPoint> cloud(cloud_.data(), cloudCount);
 	timer_.lap(Stage::kNormalise);
 	auto fit = fitter_.fit(std::span(unit_.data(), cloud.size()),
-			       std::span(normals_.data(), cloud.size()), params.ibs, active_);
+			       std::span(normals_.data(), cloud.size()), params.ibs, active_, {}, &workers_);
 	timer_.lap(Stage::kIbsFit);
 	if (!fit)
 		return 0;

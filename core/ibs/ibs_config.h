@@ -47,6 +47,9 @@ struct IbsLimits {
 	int maxN = 100;
 	int maxPoints = 4000;
 	int maxActive = 100000; // active control points of one fit
+	// Threads a fit may spread its CG products over (fit()'s pool): each
+	// takes a list of up to 3 * maxPoints constraint indices.
+	int threads = 1;
 };
 
 struct IbsFitStats {

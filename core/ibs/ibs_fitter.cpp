@@ -23,7 +23,11 @@ bool IbsFitter::carve(A &arena, const IbsLimits &limits)
 		  arenaTake(arena, neighbours_, 6 * active);
 	for (auto *v : {&x_, &r_, &z_, &p_, &q_, &diag_})
 		ok = ok && arenaTake(arena, *v, active);
-	return ok && arenaTake(arena, coarseNum_, coarse) && arenaTake(arena, coarseDen_, coarse);
+	// One thread walks all constraints and needs no list.
+	const size_t threads = static_cast<size_t>(std::clamp(limits.threads, 1, WorkerPool::kMaxThreads));
+	const size_t lists = threads > 1 ? threads * constraints : 0;
+	return ok && arenaTake(arena, coarseNum_, coarse) && arenaTake(arena, coarseDen_, coarse) &&
+	       arenaTake(arena, shareLists_, lists) && arenaTake(arena, planeCounts_, maxN);
 }
 
 size_t IbsFitter::arenaBytes(const IbsLimits &limits)
@@ -177,9 +181,10 @@ void IbsFitter::scatter(const Constraint &c, float s, float *y) const
 Expected<IbsFitStats> IbsFitter::fit(std::span<const Eigen::Vector3f> points,
 				     std::span<const Eigen::Vector3f> normals,
 				     const IbsConfig &cfg, std::span<ControlPoint> out,
-				     std::span<const ControlPoint> previous)
+				     std::span<const ControlPoint> previous, WorkerPool *pool)
 {
 	resetMap();
+	pool_ = pool;
 	fitValid_ = false;
 	IbsFitStats stats;
 

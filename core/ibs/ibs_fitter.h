@@ -10,10 +10,12 @@
 // Memory is fixed at reserve(): a dense node -> active-slot map of maxN^3
 // int32 (4 MB at N = 100; only the entries a fit touched are reset, so it is
 // never cleared whole), per-constraint tables for 3 * maxPoints equations and
-// per-active arrays for maxActive nodes. fit() allocates nothing. The
+// per-active arrays for maxActive nodes, and with threads > 1 a constraint
+// list per thread. fit() allocates nothing. The
 // scratch lives in an arena: the fitter's own, or one shared with the rest of
 // the frame path (reserve(limits, arena)).
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -25,6 +27,7 @@
 #include "core/ibs/control_point.h"
 #include "core/ibs/ibs_config.h"
 #include "core/runtime/arena.h"
+#include "core/runtime/worker_pool.h"
 
 namespace ihf {
 
@@ -50,11 +53,15 @@ public:
 	// sorted by index into out and returns the statistics; kCapacity if out,
 	// the reserved points or active set are too small, kInvalidArgument on
 	// bad sizes. previous (sorted by index, same lattice) seeds CG when
-	// cfg.warmStart is kPrevious.
+	// cfg.warmStart is kPrevious. With a pool, CG's products are spread over
+	// min(pool threads, IbsLimits::threads) threads; the result is the same
+	// bits for any thread count. fit() must then not run inside one of the
+	// pool's tasks.
 	Expected<IbsFitStats> fit(std::span<const Eigen::Vector3f> points,
 				  std::span<const Eigen::Vector3f> normals,
 				  const IbsConfig &cfg, std::span<ControlPoint> out,
-				  std::span<const ControlPoint> previous = {});
+				  std::span<const ControlPoint> previous = {},
+				  WorkerPool *pool = nullptr);
 
 	// f and its gradient (unit-cube units) of the last fit; inactive nodes
 	// count as zero.
@@ -91,7 +98,10 @@ private:
 	void solveCg(const IbsConfig &cfg, bool warm, IbsFitStats &stats);
 	void solveMba(const IbsConfig &cfg);
 	void buildNeighbours();
-	void applyNormal(const float *p, float *out, float lambdaSmooth, float lambdaRidge) const;
+	void planShares(int shares);
+	void applyNormal(const float *p, float *out, float lambdaSmooth, float lambdaRidge);
+	void applyNormalShare(int share, const float *p, float *out, float lambdaSmooth,
+			      float lambdaRidge) const;
 
 	IbsLimits limits_;
 	Lattice lattice_;
@@ -108,6 +118,16 @@ private:
 	std::span<int32_t> neighbours_; // 6 per slot: -x +x -y +y -z +z, -1 if none
 	std::span<float> x_, r_, z_, p_, q_, diag_;
 	int activeCount_ = 0;
+
+	// CG's product A p split over threads: share s owns the active slots
+	// [shareBegin_[s], shareBegin_[s + 1]), whole x-planes of the lattice,
+	// and walks the constraints touching them (in order) from its list.
+	WorkerPool *pool_ = nullptr; // of the current fit
+	int shares_ = 1;
+	std::array<int32_t, WorkerPool::kMaxThreads + 1> shareBegin_{};
+	std::array<int32_t, WorkerPool::kMaxThreads> shareListSize_{};
+	std::span<int32_t> shareLists_;  // IbsLimits::threads lists of 3 * maxPoints
+	std::span<int32_t> planeCounts_; // constraints per first x-plane, maxN
 
 	// Dense coarse lattices of the multilevel BA (levels below the finest).
 	std::span<float> coarseNum_, coarseDen_;

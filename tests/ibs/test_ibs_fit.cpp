@@ -268,3 +268,40 @@ TEST(IbsFit, FitAllocatesNothing)
 		(void)f;
 	}
 }
+
+// CG's products spread over a pool's threads give the very bits of one
+// thread (each weight sums its terms in the same order), and allocate
+// nothing. A half sphere crowds the constraints to one side of the
+// lattice, so the shares' plane ranges are uneven.
+TEST(IbsFit, ThreadsGiveTheSameBits)
+{
+	Cloud data = sphere(3000, 9);
+	for (size_t i = 0; i < data.points.size(); ++i)
+		if (data.points[i].x() > 0.6f)
+			data.points[i].x() = 0.6f - 0.5f * (data.points[i].x() - 0.6f);
+	IbsConfig cfg = config(IbsSolver::kConjugateGradient);
+	cfg.maxPoints = 3000;
+	IbsFitter one(IbsLimits{64, 3000, 60000});
+	std::vector<ControlPoint> expected(60000);
+	auto ref = one.fit(data.points, data.normals, cfg, expected);
+	ASSERT_TRUE(ref.ok()) << ref.error().message;
+	ASSERT_GT(ref->iterations, 5);
+
+	for (int threads : {1, 2, 3, 4}) {
+		WorkerPool pool(threads);
+		IbsFitter fitter(IbsLimits{64, 3000, 60000, 3});
+		std::vector<ControlPoint> cps(60000);
+		(void)fitter.fit(data.points, data.normals, cfg, cps, {}, &pool); // warm-up
+		const size_t before = test::allocationCount();
+		auto stats = fitter.fit(data.points, data.normals, cfg, cps, {}, &pool);
+		EXPECT_EQ(test::allocationCount(), before) << threads << " threads allocated";
+		ASSERT_TRUE(stats.ok()) << stats.error().message;
+		EXPECT_EQ(stats->iterations, ref->iterations) << threads << " threads";
+		EXPECT_EQ(stats->relResidual, ref->relResidual) << threads << " threads";
+		ASSERT_EQ(stats->activeCount, ref->activeCount);
+		int differing = 0;
+		for (int a = 0; a < ref->activeCount; ++a)
+			differing += cps[a].index != expected[a].index || cps[a].weight != expected[a].weight;
+		EXPECT_EQ(differing, 0) << threads << " threads";
+	}
+}
