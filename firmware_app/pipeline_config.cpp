@@ -340,6 +340,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	views.get("rotation_step_deg", e.views.rotationStepDeg);
 	views.get("anchor_share", e.views.anchorShare);
 	views.get("refine_top", e.views.refineTop);
+	views.get("budget_rotation_step_deg", e.views.budgetRotationStepDeg);
+	views.get("budget_refine_top", e.views.budgetRefineTop);
 	views.get("keep", e.views.keep);
 	views.get("inlier_mm", e.views.inlierMm);
 	views.get("max_shift_mm", e.views.maxShiftMm);
@@ -410,6 +412,10 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 				  "view_search.rotation_step_deg"),
 			  inRange(e.views.anchorShare > 0 && e.views.anchorShare <= 1, "view_search.anchor_share"),
 			  inRange(e.views.refineTop >= 1 && e.views.refineTop <= kMaxRefineTop, "view_search.refine_top"),
+			  inRange(e.views.budgetRotationStepDeg >= 0 && e.views.budgetRotationStepDeg <= 45,
+				  "view_search.budget_rotation_step_deg"),
+			  inRange(e.views.budgetRefineTop >= 1 && e.views.budgetRefineTop <= kMaxRefineTop,
+				  "view_search.budget_refine_top"),
 			  inRange(e.views.keep >= 1 && e.views.keep <= 16, "view_search.keep"),
 			  inRange(e.views.inlierMm > 0, "view_search.inlier_mm"),
 			  inRange(e.views.maxShiftMm >= 0, "view_search.max_shift_mm"),

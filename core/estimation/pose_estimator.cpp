@@ -334,7 +334,7 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	const double diameter = model.params().diameter;
 	Eigen::Vector3d centres[kMaxCentres];
 	const int nc = keptCentres(diameter, std::clamp(config.views.centres, 1, kMaxCentres), centres);
-	ViewSearchConfig vc = config.views;
+	ViewSearchConfig vc = budget_.unlimited() ? config.views : underBudget(config.views);
 	vc.outlierWeight = config.score.outlierWeight;
 	vc.occludedWeight = config.score.occludedWeight;
 	vc.residualWeight = config.score.residualWeight;

@@ -15,6 +15,7 @@
 // No allocation: fixed-size stack scratch per task (kMaxViewPoints points),
 // coarse candidates in the caller's workspace or on the stack.
 
+#include <algorithm>
 #include <span>
 
 #include "core/common/image.h"
@@ -68,7 +69,19 @@ struct ViewSearchConfig {
 	// pose. 0: sideways only.
 	float rotationStepDeg = 8.0f;
 	int refineTop = 64; // at most kMaxRefineTop
+	// Under a frame budget (the device) the cheaper climb: time the turns
+	// take buys more as a further centre searched (BENCHMARKS.md, session 12).
+	float budgetRotationStepDeg = 0.0f;
+	int budgetRefineTop = 24;
 };
+
+// The settings a search inside a frame budget runs with.
+inline ViewSearchConfig underBudget(ViewSearchConfig c)
+{
+	c.rotationStepDeg = c.budgetRotationStepDeg;
+	c.refineTop = std::min(c.refineTop, c.budgetRefineTop);
+	return c;
+}
 
 // Which axes of the window (the given box) may centre a rotation: a side on
 // the frame border was clipped, so the box's centre on that axis is not the

@@ -147,6 +147,8 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.views.lateralStepMm, b.views.lateralStepMm);
 	EXPECT_EQ(a.views.rotationStepDeg, b.views.rotationStepDeg);
 	EXPECT_EQ(a.views.refineTop, b.views.refineTop);
+	EXPECT_EQ(a.views.budgetRotationStepDeg, b.views.budgetRotationStepDeg);
+	EXPECT_EQ(a.views.budgetRefineTop, b.views.budgetRefineTop);
 	EXPECT_EQ(a.views.maxShiftMm, b.views.maxShiftMm);
 	EXPECT_EQ(a.views.inlierMm, b.views.inlierMm);
 	EXPECT_EQ(a.views.keep, b.views.keep);
@@ -176,6 +178,8 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\nlateral_step_mm = -1\n", "view_search.lateral_step_mm"},
 		     {"[view_search]\nrotation_step_deg = 50\n", "view_search.rotation_step_deg"},
 		     {"[view_search]\nrefine_top = 65\n", "view_search.refine_top"},
+		     {"[view_search]\nbudget_refine_top = 0\n", "view_search.budget_refine_top"},
+		     {"[view_search]\nbudget_rotation_step_deg = -1\n", "view_search.budget_rotation_step_deg"},
 		     {"[search]\nlevels = -1\n", "search.levels"},
 		     {"[half_turns]\ncandidates = 5\n", "half_turns.candidates"},
 		     {"[half_turns]\nkeep = 0\n", "half_turns.keep"},

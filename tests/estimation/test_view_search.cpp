@@ -504,3 +504,23 @@ TEST_F(ViewSearchTest, ThreadsGiveTheSameProposals)
 
 } // namespace
 } // namespace ihf
+
+// Under a frame budget the climb falls back to its budget settings; the
+// rest of the search is unchanged.
+TEST(ViewSearch, UnderBudgetTakesTheBudgetClimb)
+{
+	ihf::ViewSearchConfig c;
+	c.rotationStepDeg = 8.0f;
+	c.refineTop = 64;
+	c.budgetRotationStepDeg = 2.0f;
+	c.budgetRefineTop = 24;
+	c.lateralStepMm = 3.0f;
+	const ihf::ViewSearchConfig b = ihf::underBudget(c);
+	EXPECT_EQ(b.rotationStepDeg, 2.0f);
+	EXPECT_EQ(b.refineTop, 24);
+	EXPECT_EQ(b.lateralStepMm, 3.0f);
+	EXPECT_EQ(b.keep, c.keep);
+	EXPECT_EQ(b.inplane, c.inplane);
+	c.refineTop = 10; // never more climbers than unbudgeted
+	EXPECT_EQ(ihf::underBudget(c).refineTop, 10);
+}
