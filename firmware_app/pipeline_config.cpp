@@ -367,6 +367,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 
 	TableReader budget(root["budget"].as_table(), file, "budget");
 	budget.get("frame_ms", e.frameBudgetMs);
+	budget.get("max_iterations", e.budgetIterations);
+	budget.get("max_depth_windows", e.budgetDepthWindows);
 	IHF_SECTION(budget);
 
 	TableReader lim(root["limits"].as_table(), file, "limits");
@@ -429,6 +431,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.halfTurns.keep >= 1 && e.halfTurns.keep <= 4, "half_turns.keep"),
 			  inRange(s.renderMeshErrorMm >= 0 && s.renderMeshErrorMm <= 20, "render_mesh.max_error_mm"),
 			  inRange(e.frameBudgetMs >= 0, "budget.frame_ms"),
+			  inRange(e.budgetIterations >= -1, "budget.max_iterations"),
+			  inRange(e.budgetDepthWindows >= -1, "budget.max_depth_windows"),
 			  inRange(s.limits.threads >= 0 && s.limits.threads <= WorkerPool::kMaxThreads, "limits.threads")})
 		if (!st)
 			return st.error();

@@ -334,7 +334,7 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	const double diameter = model.params().diameter;
 	Eigen::Vector3d centres[kMaxCentres];
 	const int nc = keptCentres(diameter, std::clamp(config.views.centres, 1, kMaxCentres), centres);
-	ViewSearchConfig vc = budget_.unlimited() ? config.views : underBudget(config.views);
+	ViewSearchConfig vc = config.views; // under a budget: underBudget()'s already
 	vc.outlierWeight = config.score.outlierWeight;
 	vc.occludedWeight = config.score.occludedWeight;
 	vc.residualWeight = config.score.residualWeight;
@@ -855,12 +855,26 @@ void PoseEstimator::maskToRange(float lo, float hi, std::span<float> out) const
 	}
 }
 
+EstimatorConfig underBudget(EstimatorConfig c)
+{
+	if (c.budgetIterations >= 0)
+		c.iterations = std::min(c.iterations, c.budgetIterations);
+	if (c.budgetDepthWindows >= 0)
+		c.depthWindows = std::min(c.depthWindows, c.budgetDepthWindows);
+	c.views = underBudget(c.views);
+	return c;
+}
+
 PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraIntrinsics &K,
 				     const PixelBox &box, const ObjectModel &model,
-				     const EstimatorConfig &config)
+				     const EstimatorConfig &requested)
 {
 	PoseEstimate out;
-	BoxScope scope(*this, config);
+	BoxScope scope(*this, requested);
+	EstimatorConfig budgeted;
+	if (!budget_.unlimited())
+		budgeted = underBudget(requested);
+	const EstimatorConfig &config = budget_.unlimited() ? requested : budgeted;
 	if (!valid_) {
 		out.reason = "estimator has no memory (arena allocation failed)";
 		return out;

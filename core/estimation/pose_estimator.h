@@ -99,7 +99,17 @@ struct EstimatorConfig {
 	// the masked cloud.
 	bool hypothesisCube = true;
 	float frameBudgetMs = 0; // per frame, shared by its boxes; 0: unlimited
+	// Inside a frame budget, at most this many refinement iterations and
+	// depth slabs (-1: as without a budget; the view search has its own,
+	// ViewSearchConfig::budget*). On a 33 ms frame their time buys more in
+	// the view search and ICP (BENCHMARKS.md, session 12); the iterations
+	// stay anytime whatever the bound.
+	int budgetIterations = 0;
+	int budgetDepthWindows = 1;
 };
+
+// The settings a box runs with inside a frame budget.
+EstimatorConfig underBudget(EstimatorConfig c);
 
 struct EstimatorLimits {
 	int maxWindowPixels = 200 * 200;

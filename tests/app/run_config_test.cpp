@@ -134,6 +134,8 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.icpCandidates, b.icpCandidates);
 	EXPECT_EQ(a.targetParts, b.targetParts);
 	EXPECT_EQ(a.frameBudgetMs, b.frameBudgetMs);
+	EXPECT_EQ(a.budgetIterations, b.budgetIterations);
+	EXPECT_EQ(a.budgetDepthWindows, b.budgetDepthWindows);
 	EXPECT_EQ(none->limits.threads, bundled->limits.threads);
 	EXPECT_EQ(a.search.levels, b.search.levels);
 	EXPECT_EQ(a.bank.viewpoints, b.bank.viewpoints);
@@ -180,6 +182,8 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\nrefine_top = 65\n", "view_search.refine_top"},
 		     {"[view_search]\nbudget_refine_top = 0\n", "view_search.budget_refine_top"},
 		     {"[view_search]\nbudget_rotation_step_deg = -1\n", "view_search.budget_rotation_step_deg"},
+		     {"[budget]\nmax_iterations = -2\n", "budget.max_iterations"},
+		     {"[budget]\nmax_depth_windows = -2\n", "budget.max_depth_windows"},
 		     {"[search]\nlevels = -1\n", "search.levels"},
 		     {"[half_turns]\ncandidates = 5\n", "half_turns.candidates"},
 		     {"[half_turns]\nkeep = 0\n", "half_turns.keep"},

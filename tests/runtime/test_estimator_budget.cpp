@@ -47,6 +47,9 @@ protected:
 		// be counted exactly.
 		c.depthWindows = 0;
 		c.icpCandidates = 1;
+		// The anytime machinery itself, without the device's bounds.
+		c.budgetIterations = -1;
+		c.budgetDepthWindows = -1;
 		return c;
 	}
 
@@ -384,6 +387,36 @@ TEST_F(EstimatorBudget, AFurtherDepthSlabRunsOnlyIfItFits)
 	ASSERT_TRUE(ample.found);
 	EXPECT_EQ(clouds() - before, 2u);
 	EXPECT_FALSE(ample.budgetStopped);
+}
+
+// Inside a frame budget the box runs at most budgetIterations iterations and
+// budgetDepthWindows slabs, however ample the time; without a budget the
+// bounds do not apply.
+TEST_F(EstimatorBudget, BudgetBoundsIterationsAndSlabs)
+{
+	// A wall behind the object: two dense slabs in the box.
+	DepthImageMm depth(depth_->width(), depth_->height(), 0.0f);
+	for (int y = 0; y < depth.height(); ++y)
+		for (int x = 0; x < depth.width(); ++x)
+			depth.at(x, y) = depth_->at(x, y) > 0 ? depth_->at(x, y) : 1000.0f;
+	EstimatorConfig c = config(3, 1e6f);
+	c.depthWindows = 2;
+	c.budgetIterations = 1;
+	c.budgetDepthWindows = 1;
+	auto fits = [&](float budgetMs) {
+		test::StepClock clock(kMs);
+		PoseEstimator e({}, &clock);
+		c.frameBudgetMs = budgetMs;
+		PoseEstimate r = e.estimate(depth.view(), test::kKinect, box_, *model_->model, c);
+		EXPECT_TRUE(r.found) << r.reason;
+		return std::make_pair(r.iterationsDone, e.stats().stages[static_cast<int>(Stage::kIbsFit)].calls);
+	};
+	const auto [itBudget, fitsBudget] = fits(1e6f);
+	EXPECT_EQ(itBudget, 1);
+	EXPECT_EQ(fitsBudget, 2u); // one slab, one iteration
+	const auto [itFree, fitsFree] = fits(0.0f);
+	EXPECT_EQ(itFree, 3);
+	EXPECT_EQ(fitsFree, 5u); // two slabs, three iterations
 }
 
 } // namespace
