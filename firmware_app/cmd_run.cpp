@@ -41,7 +41,8 @@ struct RunOptions {
 	bool realTime = false;
 	bool step = false;
 	double statsInterval = -1;
-	double budgetMs = -1;
+	double budgetMs = -1;         // --frame-budget-ms: drop late frames
+	double estimateBudgetMs = -1; // --budget-ms: the frame's estimation budget
 };
 
 int failWith(const std::string &message, int code = kExitFailure)
@@ -77,6 +78,8 @@ int runRun(const RunOptions &o)
 		rs.statsIntervalS = o.statsInterval;
 	if (o.budgetMs >= 0)
 		rs.frameBudgetMs = o.budgetMs;
+	if (o.estimateBudgetMs >= 0)
+		rs.budgetMs = o.estimateBudgetMs;
 	if (!o.forests.empty()) {
 		rs.forests.clear();
 		for (const std::string &spec : o.forests) {
@@ -227,6 +230,9 @@ void addRunCommand(CLI::App &root, Action &action)
 	cmd->add_flag("--real-time", o->realTime, "recordings: replay at recorded speed (late frames dropped)");
 	cmd->add_flag("--step", o->step, "recordings: every frame in turn, none dropped");
 	cmd->add_option("--frame-budget-ms", o->budgetMs, "drop frames older than this at their turn (0: never)")
+		->check(CLI::NonNegativeNumber);
+	cmd->add_option("--budget-ms", o->estimateBudgetMs,
+			"estimation time per frame, shared by its boxes (overrides [estimate] budget_ms; 0: unlimited)")
 		->check(CLI::NonNegativeNumber);
 	cmd->add_option("--stats-interval", o->statsInterval, "seconds between stats lines on stderr (0: end only)")
 		->check(CLI::NonNegativeNumber);

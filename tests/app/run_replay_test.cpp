@@ -369,6 +369,35 @@ TEST_F(RunReplay, RealTimeReplayDropsFramesOlderThanTheBudget)
 	expectSamePose(got.poses.begin()->second, estimateRows(d / "est.csv").begin()->second);
 }
 
+// --budget-ms sets the frame's estimation budget: with almost none, every
+// box keeps its first slab's registration (no refinement, no ICP); 0 is
+// unlimited, the poses of ihf estimate.
+TEST_F(RunReplay, EstimationBudgetFromTheCommandLine)
+{
+	const fs::path &d = *dir_;
+	CommandResult r = runIhf("run --config " + q(d / "device.toml") + " --budget-ms 0.001 --out file:" +
+				 q(d / "tight.jsonl"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	const RunOutput tight = readRunOutput(d / "tight.jsonl");
+	ASSERT_FALSE(tight.poses.empty());
+	for (const auto &[key, pose] : tight.poses) {
+		EXPECT_EQ(pose["iterations"].get<int>(), 0) << pose.dump();
+		EXPECT_FALSE(pose["icp"].get<bool>()) << pose.dump();
+	}
+
+	r = runIhf("run --config " + q(d / "device.toml") + " --budget-ms 0 --out file:" + q(d / "free.jsonl"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	const auto expected = estimateRows(d / "est.csv");
+	const RunOutput free = readRunOutput(d / "free.jsonl");
+	ASSERT_EQ(free.poses.size(), expected.size());
+	for (const auto &[key, row] : expected) {
+		auto it = free.poses.find(key);
+		ASSERT_NE(it, free.poses.end());
+		expectSamePose(it->second, row);
+	}
+	EXPECT_NE(runIhf("run --config " + q(d / "device.toml") + " --budget-ms -1").exitCode, 0);
+}
+
 TEST_F(RunReplay, BoxesInAndPosesOutOnAUnixSocket)
 {
 	const fs::path &d = *dir_;
