@@ -53,6 +53,16 @@ protected:
 		return c;
 	}
 
+	// The scene with a wall behind the object: two dense slabs in the box.
+	static DepthImageMm withWall()
+	{
+		DepthImageMm depth(depth_->width(), depth_->height(), 0.0f);
+		for (int y = 0; y < depth.height(); ++y)
+			for (int x = 0; x < depth.width(); ++x)
+				depth.at(x, y) = depth_->at(x, y) > 0 ? depth_->at(x, y) : 1000.0f;
+		return depth;
+	}
+
 	PoseEstimate run(PoseEstimator &e, const EstimatorConfig &c)
 	{
 		return e.estimate(depth_->view(), test::kKinect, box_, *model_->model, c);
@@ -352,11 +362,7 @@ TEST_F(EstimatorBudget, ArenaGrowsWithTheThreadsAndMatchesItsSizing)
 // that holds one pass is kept instead of overrun by the second).
 TEST_F(EstimatorBudget, AFurtherDepthSlabRunsOnlyIfItFits)
 {
-	// A wall behind the object: two dense slabs in the box.
-	DepthImageMm depth(depth_->width(), depth_->height(), 0.0f);
-	for (int y = 0; y < depth.height(); ++y)
-		for (int x = 0; x < depth.width(); ++x)
-			depth.at(x, y) = depth_->at(x, y) > 0 ? depth_->at(x, y) : 1000.0f;
+	const DepthImageMm depth = withWall();
 	EstimatorConfig c = config(0, 0.0f);
 	c.depthWindows = 2;
 	test::StepClock clock(kMs);
@@ -394,11 +400,7 @@ TEST_F(EstimatorBudget, AFurtherDepthSlabRunsOnlyIfItFits)
 // bounds do not apply.
 TEST_F(EstimatorBudget, BudgetBoundsIterationsAndSlabs)
 {
-	// A wall behind the object: two dense slabs in the box.
-	DepthImageMm depth(depth_->width(), depth_->height(), 0.0f);
-	for (int y = 0; y < depth.height(); ++y)
-		for (int x = 0; x < depth.width(); ++x)
-			depth.at(x, y) = depth_->at(x, y) > 0 ? depth_->at(x, y) : 1000.0f;
+	const DepthImageMm depth = withWall();
 	EstimatorConfig c = config(3, 1e6f);
 	c.depthWindows = 2;
 	c.budgetIterations = 1;
