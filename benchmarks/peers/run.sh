@@ -51,11 +51,12 @@ score() { # name
 	"$ihf" eval --dataset "$dataset" --results "$out/$1.csv" --objects "$objects" --targets "$boxes" \
 		--json "$out/$1.eval.json" > "$out/$1.eval.txt"
 }
-ihfRun() { # name, prep seconds, forest args..., options...
+ihfRun() { # name, prep seconds, forest args..., options... (IHF_BUDGET_MS: per-box budget, 0 = none)
 	local name=$1 prep=$2; shift 2
 	echo "run.sh: $name" >&2
 	"$ihf" estimate --dataset "$dataset" --boxes "$boxes" --config "$config" --out "$out/$name.csv" \
-		--stats-json "$out/$name.stats.json" --budget-ms 0 --threads 1 --quiet "$@" > "$out/$name.log" 2>&1
+		--stats-json "$out/$name.stats.json" --budget-ms "${IHF_BUDGET_MS:-0}" --threads 1 --quiet "$@" \
+		> "$out/$name.log" 2>&1
 	echo "${prep:-null}" > "$out/$name.prep"
 	score "$name"
 }
@@ -66,6 +67,9 @@ if [ ${#fixed[@]} -gt 0 ]; then
 	ihfRun ihf_fixed_k0 "$trainFix" "${fixed[@]}" --iterations 0 --paper
 	ihfRun ihf_fixed_k5 "$trainFix" "${fixed[@]}" --iterations 5 --paper
 	ihfRun ihf_fixed_k5_icp "$trainFix" "${fixed[@]}" --iterations 5 # config/train.toml's kind since session 3
+	# The device mode: the default config inside a 50 ms budget per box
+	# (the budget bounds of config/estimate.toml apply), still one thread.
+	IHF_BUDGET_MS=50 ihfRun ihf_fixed_budget50 "$trainFix" "${fixed[@]}"
 fi
 for p in ${peers//,/ }; do
 	echo "run.sh: $p" >&2
