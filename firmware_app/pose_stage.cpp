@@ -22,6 +22,13 @@ Status PoseStage::prepare(const SourceInfo &info)
 		return makeError(Errc::kInvalidArgument, info.uri + ": source reports no frame size");
 	if (depthMm_.width() != k.width || depthMm_.height() != k.height)
 		depthMm_ = Image<float>(k.width, k.height);
+	// Under a budget the first frame's stages must be predicted from a
+	// measurement, not taken as free: one synthetic box per object now.
+	if (config_.frameBudgetMs > 0)
+		for (const auto &[id, model] : models_)
+			if (Status st = estimator_.warmUp(*model, k, config_); !st)
+				std::fprintf(stderr, "ihf run: warm-up of object %d: %s (its first box may overrun)\n", id,
+					     std::string(st.error().message.view()).c_str());
 	return {};
 }
 

@@ -855,6 +855,61 @@ void PoseEstimator::maskToRange(float lo, float hi, std::span<float> out) const
 	}
 }
 
+Status PoseEstimator::warmUp(const ObjectModel &model, const CameraIntrinsics &K, const EstimatorConfig &config)
+{
+	if (!valid_)
+		return makeError(Errc::kCapacity, "estimator has no memory (arena allocation failed)");
+	const double diameter = model.params().diameter;
+	if (!(diameter > 0) || K.width <= 0 || K.height <= 0 || !(K.fx > 0) || !(K.fy > 0))
+		return makeError(Errc::kInvalidArgument, "warm-up needs a model diameter and the camera's intrinsics");
+	// The object across 80 % of the largest window's side, on the optical
+	// axis, turned so that no face is seen square on; a wall one diameter
+	// behind it gives the box a second depth slab, as a table or shelf does.
+	const double side = 0.8 * std::sqrt(static_cast<double>(limits_.maxWindowPixels));
+	Pose pose;
+	pose.R = Eigen::AngleAxisd(0.6, Eigen::Vector3d(1, 2, 0.5).normalized()).toRotationMatrix();
+	pose.t = Eigen::Vector3d(0, 0, std::max(1.5 * diameter, K.fx * diameter / side));
+	Image<float> depth(K.width, K.height, 0.0f);
+	auto rendered = renderer_.render(model.renderMesh(), pose, K, depth.view());
+	if (!rendered)
+		return rendered.error();
+	int x0 = K.width, y0 = K.height, x1 = -1, y1 = -1;
+	for (int y = 0; y < K.height; ++y)
+		for (int x = 0; x < K.width; ++x) {
+			float &d = depth.at(x, y);
+			if (d > 0) {
+				x0 = std::min(x0, x);
+				y0 = std::min(y0, y);
+				x1 = std::max(x1, x);
+				y1 = std::max(y1, y);
+			} else {
+				d = static_cast<float>(pose.t.z() + diameter);
+			}
+		}
+	if (x1 < x0)
+		return makeError(Errc::kInvalidArgument, "warm-up: the model is not in the camera's view");
+	// A detector's box, 10 % larger than the object's.
+	const int mx = (x1 - x0) / 20 + 1, my = (y1 - y0) / 20 + 1;
+	const PixelBox box{x0 - mx, y0 - my, x1 - x0 + 1 + 2 * mx, y1 - y0 + 1 + 2 * my};
+
+	EstimatorConfig c = underBudget(config);
+	c.frameBudgetMs = 0;
+	EstimateObserver *observer = observer_;
+	observer_ = nullptr;
+	beginFrame(1, 0);
+	const PoseEstimate e = estimate(depth.view(), K, box, model, c);
+	endFrame();
+	observer_ = observer;
+
+	timer_.reset();
+	budget_ = FrameBudget{};
+	iterationsRun_ = budgetStops_ = icpSkipped_ = 0;
+	peaks_ = {};
+	if (!e.found)
+		return makeError(Errc::kNoPose, std::string("warm-up box gave no pose: ") + e.reason);
+	return {};
+}
+
 EstimatorConfig underBudget(EstimatorConfig c)
 {
 	if (c.budgetIterations >= 0)

@@ -197,6 +197,18 @@ public:
 
 	EstimatorStats stats() const;
 
+	// Start-up, before the first budgeted frame: one box of `model`, rendered
+	// in front of a wall, estimated with the budget profile of `config` but
+	// no budget, so that every stage a budgeted box may run has a measured
+	// cost (a stage never measured is predicted free: the first frame would
+	// run it whatever the time left, and overrun). Then forgets the box: the
+	// stage, frame and budget counters and the peaks start again from zero;
+	// the cost averages and the arena's high-water mark keep it. The object
+	// spans most of the largest window (EstimatorLimits::maxWindowPixels),
+	// so the first predictions err on the safe, high side. Allocates a
+	// K-sized image: not for the frame path.
+	Status warmUp(const ObjectModel &model, const CameraIntrinsics &K, const EstimatorConfig &config);
+
 	// Hypotheses are reported to the observer (nullptr: none). Not owned.
 	void setObserver(EstimateObserver *observer) { observer_ = observer; }
 

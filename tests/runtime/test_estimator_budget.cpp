@@ -421,5 +421,61 @@ TEST_F(EstimatorBudget, BudgetBoundsIterationsAndSlabs)
 	EXPECT_EQ(fitsFree, 5u); // two slabs, three iterations
 }
 
+// A stage never measured is predicted free, so a cold estimator's first box
+// runs its ICP polish whatever the time left and overruns; after warmUp()
+// the polish is predicted from the warm-up box's and refused in time. The
+// warm-up box itself is forgotten: the counters start from zero.
+TEST_F(EstimatorBudget, WarmUpMeasuresEveryStageBeforeTheFirstFrame)
+{
+	EstimatorConfig c = config(0, 0.0f, true);
+	c.halfTurns.candidates = 0;
+	// Unlimited: what the initial registration and the polish cost.
+	auto [r, s] = runFresh(c);
+	ASSERT_TRUE(r.found) << r.reason;
+	ASSERT_TRUE(r.icpApplied);
+	const int64_t icp = static_cast<int64_t>(s.stages[static_cast<int>(Stage::kIcp)].totalNs);
+	const int64_t before = static_cast<int64_t>(s.worstFrameNs) - icp;
+	ASSERT_GE(icp, 2 * kMs) << "the polish must cost more than a clock read for this test";
+	// A budget the registration fits and the polish does not.
+	c.frameBudgetMs = static_cast<float>((before + icp / 2) / kMs);
+
+	std::tie(r, s) = runFresh(c);
+	ASSERT_TRUE(r.found) << r.reason;
+	EXPECT_TRUE(r.icpApplied);
+	EXPECT_EQ(s.boxOverruns, 1u); // cold: the polish ran past the deadline
+
+	test::StepClock clock(kMs);
+	PoseEstimator e({}, &clock);
+	ASSERT_TRUE(e.warmUp(*model_->model, test::kKinect, c).ok());
+	EstimatorStats w = e.stats();
+	EXPECT_EQ(w.frames, 0u);
+	EXPECT_EQ(w.boxes, 0u);
+	EXPECT_EQ(w.worstFrameNs, 0);
+	for (const auto &stage : w.stages)
+		EXPECT_EQ(stage.calls, 0u);
+	r = run(e, c);
+	ASSERT_TRUE(r.found) << r.reason;
+	EXPECT_TRUE(r.icpSkipped);
+	EXPECT_FALSE(r.icpApplied);
+	s = e.stats();
+	EXPECT_EQ(s.frames, 1u);
+	EXPECT_EQ(s.boxes, 1u);
+	EXPECT_EQ(s.boxOverruns, 0u);
+	EXPECT_EQ(s.frameOverruns, 0u);
+	EXPECT_EQ(s.icpSkipped, 1u);
+	EXPECT_EQ(s.stages[static_cast<int>(Stage::kCrop)].calls, 1u);
+}
+
+TEST_F(EstimatorBudget, WarmUpSaysWhatIsWrong)
+{
+	test::StepClock clock(kMs);
+	PoseEstimator e({}, &clock);
+	CameraIntrinsics noCamera = test::kKinect;
+	noCamera.width = 0;
+	auto st = e.warmUp(*model_->model, noCamera, config(0, 33.0f));
+	ASSERT_FALSE(st.ok());
+	EXPECT_NE(std::string(st.error().message.view()).find("intrinsics"), std::string::npos);
+}
+
 } // namespace
 } // namespace ihf
