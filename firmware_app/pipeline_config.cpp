@@ -369,6 +369,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	budget.get("frame_ms", e.frameBudgetMs);
 	budget.get("max_iterations", e.budgetIterations);
 	budget.get("max_depth_windows", e.budgetDepthWindows);
+	budget.get("margin", e.budgetMargin);
 	IHF_SECTION(budget);
 
 	TableReader lim(root["limits"].as_table(), file, "limits");
@@ -433,6 +434,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.frameBudgetMs >= 0, "budget.frame_ms"),
 			  inRange(e.budgetIterations >= -1, "budget.max_iterations"),
 			  inRange(e.budgetDepthWindows >= -1, "budget.max_depth_windows"),
+			  inRange(e.budgetMargin >= 0 && e.budgetMargin <= 10, "budget.margin"),
 			  inRange(s.limits.threads >= 0 && s.limits.threads <= WorkerPool::kMaxThreads, "limits.threads")})
 		if (!st)
 			return st.error();

@@ -171,18 +171,19 @@ void PoseEstimator::releaseBox()
 // One vote pass, predicted from the refinement iterations and the initial
 // registrations seen so far (a registration of several slabs is observed as
 // one: an over-estimate, which keeps the budget safe).
-int64_t PoseEstimator::passCost() const
+int64_t PoseEstimator::passCost(double margin) const
 {
 	return costs_.predict({Stage::kCloud, Stage::kNormalise, Stage::kIbsFit, Stage::kParts, Stage::kHocp,
-			       Stage::kForest, Stage::kModes, Stage::kScore});
+			       Stage::kForest, Stage::kModes, Stage::kScore},
+			      margin);
 }
 
 bool PoseEstimator::refinementFits(const EstimatorConfig &config)
 {
-	int64_t predicted = passCost();
+	int64_t predicted = passCost(config.budgetMargin);
 	// Keep room for the polish after the last iteration.
 	if (config.icp)
-		predicted += costs_.average(Stage::kIcp);
+		predicted += costs_.bound(Stage::kIcp, config.budgetMargin);
 	return boxFits(predicted);
 }
 
@@ -198,9 +199,9 @@ bool PoseEstimator::boxFits(int64_t predictedNs)
 	return false;
 }
 
-bool PoseEstimator::icpFits()
+bool PoseEstimator::icpFits(double margin)
 {
-	return fitsBudget(costs_.average(Stage::kIcp), icpSkipped_);
+	return fitsBudget(costs_.bound(Stage::kIcp, margin), icpSkipped_);
 }
 
 // Whether predictedNs more still fits the frame and box; counts a refusal.
@@ -289,7 +290,7 @@ void PoseEstimator::searchRotationBank(const CameraIntrinsics &K, const ObjectMo
 	const int keepN = std::clamp(config.bank.keep, 1, kMaxKeep);
 	const float same = static_cast<float>(0.05 * diameter);
 	for (int c = 0; c < nc; ++c) {
-		if (!boxFits(costs_.average(Stage::kBank)))
+		if (!boxFits(costs_.bound(Stage::kBank, config.budgetMargin)))
 			return;
 		const int64_t start = timer_.last();
 		Hypothesis top[kMaxKeep];
@@ -368,7 +369,7 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 		costs_.observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
 	};
 	for (int c = 0; c < nc; ++c) {
-		if (!boxFits(costs_.average(Stage::kViews)))
+		if (!boxFits(costs_.bound(Stage::kViews, config.budgetMargin)))
 			return;
 		searchAt(centres[c], 0.0f, "view");
 	}
@@ -376,7 +377,7 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	// virtual crop's optical axis) at each dense slab's median depth.
 	const size_t nd = std::min(windowCount_, static_cast<size_t>(std::max(0, config.views.depthCentres)));
 	for (size_t w = 0; w < nd; ++w) {
-		if (!boxFits(costs_.average(Stage::kViews)))
+		if (!boxFits(costs_.bound(Stage::kViews, config.budgetMargin)))
 			return;
 		const float anchor = windowMedianDepth(observedView_, windows_[w], config.views.anchorShare);
 		if (anchor > 0)
@@ -515,7 +516,7 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 	const int keepN = std::clamp(cfg.keep, 1, kMaxKeep);
 	Hypothesis found = best;
 	for (int c = 0; c < ns; ++c) {
-		if (!boxFits(costs_.average(Stage::kHalfTurns)))
+		if (!boxFits(costs_.bound(Stage::kHalfTurns, config.budgetMargin)))
 			break;
 		const int64_t start = timer_.last();
 		const std::optional<Eigen::Vector3d> shown = cfg.align ? shownCentroid(sources[c].pose, K, model)
@@ -1074,7 +1075,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	const size_t round = static_cast<size_t>(workers_.threads());
 	Hypothesis searched[kMaxPolished], icped[kMaxPolished];
 	for (size_t c0 = 0; c0 < std::min(polishCount, kMaxPolished); c0 += round) {
-		if (!icpFits()) {
+		if (!icpFits(config.budgetMargin)) {
 			out.icpSkipped = true;
 			break;
 		}

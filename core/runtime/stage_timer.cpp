@@ -37,11 +37,15 @@ StageTotals StageTimer::totals() const
 void StageCostModel::observe(Stage stage, int64_t ns)
 {
 	const int i = static_cast<int>(stage);
+	const double x = static_cast<double>(ns);
 	if (!seen_[i]) {
-		average_[i] = static_cast<double>(ns);
+		average_[i] = x;
+		deviation_[i] = 0.25 * x;
 		seen_[i] = true;
 	} else {
-		average_[i] += alpha_ * (static_cast<double>(ns) - average_[i]);
+		const double error = x - average_[i];
+		average_[i] += alpha_ * error;
+		deviation_[i] += alpha_ * (std::abs(error) - deviation_[i]);
 	}
 }
 
@@ -57,11 +61,17 @@ int64_t StageCostModel::average(Stage stage) const
 	return static_cast<int64_t>(std::ceil(average_[static_cast<int>(stage)]));
 }
 
-int64_t StageCostModel::predict(std::initializer_list<Stage> stages) const
+int64_t StageCostModel::bound(Stage stage, double margin) const
+{
+	const int i = static_cast<int>(stage);
+	return static_cast<int64_t>(std::ceil(average_[i] + std::max(0.0, margin) * deviation_[i]));
+}
+
+int64_t StageCostModel::predict(std::initializer_list<Stage> stages, double margin) const
 {
 	int64_t sum = 0;
 	for (Stage s : stages)
-		sum += average(s);
+		sum += bound(s, margin);
 	return sum;
 }
 

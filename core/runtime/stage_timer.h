@@ -125,13 +125,19 @@ public:
 	void observe(Stage stage, int64_t ns);
 
 	// Predicted cost of running the given stages once more (0 for a stage
-	// never observed).
-	int64_t predict(std::initializer_list<Stage> stages) const;
+	// never observed): each stage's bound().
+	int64_t predict(std::initializer_list<Stage> stages, double margin = 0) const;
 	int64_t average(Stage stage) const;
+	// The running average plus `margin` running mean absolute deviations
+	// (margin 0: the average): a cost the stage exceeds less often, for
+	// budgets that must not overrun. One observation says nothing of the
+	// spread, so it starts at a quarter of the first cost.
+	int64_t bound(Stage stage, double margin) const;
 
 private:
 	double alpha_;
 	std::array<double, kStageCount> average_{};
+	std::array<double, kStageCount> deviation_{};
 	std::array<bool, kStageCount> seen_{};
 };
 

@@ -50,6 +50,7 @@ protected:
 		// The anytime machinery itself, without the device's bounds.
 		c.budgetIterations = -1;
 		c.budgetDepthWindows = -1;
+		c.budgetMargin = 0; // predictions are the averages
 		return c;
 	}
 
@@ -464,6 +465,31 @@ TEST_F(EstimatorBudget, WarmUpMeasuresEveryStageBeforeTheFirstFrame)
 	EXPECT_EQ(s.frameOverruns, 0u);
 	EXPECT_EQ(s.icpSkipped, 1u);
 	EXPECT_EQ(s.stages[static_cast<int>(Stage::kCrop)].calls, 1u);
+}
+
+// With a margin the polish must fit its average plus the running deviation:
+// after the warm-up (one observation, spread a quarter of its cost) a polish
+// that fits on its average alone is refused.
+TEST_F(EstimatorBudget, MarginKeepsRoomForACostlierStage)
+{
+	EstimatorConfig c = config(0, 0.0f, true);
+	c.halfTurns.candidates = 0;
+	auto [r, s] = runFresh(c);
+	ASSERT_TRUE(r.icpApplied);
+	const int64_t icp = static_cast<int64_t>(s.stages[static_cast<int>(Stage::kIcp)].totalNs);
+	const int64_t before = static_cast<int64_t>(s.worstFrameNs) - icp;
+	ASSERT_GE(icp, 4 * kMs) << "the polish must cost a few clock reads for this test";
+	c.frameBudgetMs = static_cast<float>((before + icp + icp / 4) / kMs); // room for 1.25 polishes
+	for (float margin : {0.0f, 2.0f}) {
+		c.budgetMargin = margin;
+		test::StepClock clock(kMs);
+		PoseEstimator e({}, &clock);
+		ASSERT_TRUE(e.warmUp(*model_->model, test::kKinect, c).ok());
+		r = run(e, c);
+		ASSERT_TRUE(r.found) << r.reason;
+		EXPECT_EQ(r.icpApplied, margin == 0.0f) << "margin " << margin;
+		EXPECT_EQ(e.stats().boxOverruns, 0u) << "margin " << margin;
+	}
 }
 
 TEST_F(EstimatorBudget, WarmUpSaysWhatIsWrong)

@@ -178,6 +178,23 @@ TEST(StageCostModel, RunningAveragePerStage)
 	EXPECT_EQ(model.average(Stage::kForest), 400);
 }
 
+TEST(StageCostModel, BoundAddsTheRunningDeviation)
+{
+	StageCostModel model(0.5);
+	EXPECT_EQ(model.bound(Stage::kIcp, 2.0), 0); // nothing seen yet
+	model.observe(Stage::kIcp, 1000);
+	EXPECT_EQ(model.bound(Stage::kIcp, 0.0), 1000);
+	EXPECT_EQ(model.bound(Stage::kIcp, 2.0), 1500); // spread: a quarter of the first cost
+	model.observe(Stage::kIcp, 2000);                // 1000 above the average
+	EXPECT_EQ(model.average(Stage::kIcp), 1500);
+	EXPECT_EQ(model.bound(Stage::kIcp, 2.0), 1500 + 2 * 625);
+	EXPECT_EQ(model.predict({Stage::kIcp}, 2.0), 2750);
+	EXPECT_EQ(model.bound(Stage::kIcp, -1.0), 1500); // no negative margin
+	for (int i = 0; i < 40; ++i)
+		model.observe(Stage::kIcp, 1500); // steady: the spread dies away
+	EXPECT_LE(model.bound(Stage::kIcp, 2.0), 1501); // (rounded up)
+}
+
 TEST(FrameBudget, BoxesShareWhatIsLeft)
 {
 	FrameBudget b;
