@@ -20,10 +20,14 @@ namespace ihf {
 float templateDistance(const ForestView &forest, const TreeView &tree, uint32_t index,
 		       std::span<const float> histogram);
 
+// Histograms castPartVotes() can keep along a part's walk.
+inline constexpr size_t kMaxHistogramSlots = 32;
+
 // Appends the part's votes to votes[count...]; returns the new count (never
-// more than votes.size()). hist is scratch of forest.dims floats, or twice
-// that to reuse histograms along the walk (the same votes, faster). Each vote
-// weighs 1 / (leaf size * trees), so every part carries the same mass.
+// more than votes.size()). hist is scratch of forest.dims floats, or k times
+// that (2 <= k <= kMaxHistogramSlots) to keep k histograms along the walk
+// and reuse them (the same votes, faster). Each vote weighs
+// 1 / (leaf size * trees), so every part carries the same mass.
 size_t castPartVotes(const ForestView &forest, std::span<const PartCp> cps,
 		     const Eigen::Vector3f &centreMm, const HocpConfig &hocp, float marginMm,
 		     std::span<float> hist, std::span<CastVote> votes, size_t count);

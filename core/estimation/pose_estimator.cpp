@@ -70,7 +70,7 @@ bool PoseEstimator::carvePersistent(A &arena)
 	return arenaTake(arena, observed_, count(l.maxWindowPixels)) &&
 	       arenaTake(arena, active_, count(l.maxActive)) && arenaTake(arena, parts_, count(l.maxParts)) &&
 	       arenaTake(arena, pool_, count(l.maxParts) * count(l.maxPartControlPoints)) &&
-	       arenaTake(arena, hist_, 2 * count(l.maxHistogramDims) * WorkerPool::resolve(l.threads)) &&
+	       arenaTake(arena, hist_, kMaxHistogramSlots * count(l.maxHistogramDims) * WorkerPool::resolve(l.threads)) &&
 	       arenaTake(arena, votes_, count(l.maxVotes)) &&
 	       arenaTake(arena, modeScratch_, count(l.maxVotes)) &&
 	       arenaTake(arena, modeSupport_, count(l.maxVotes)) &&
@@ -687,7 +687,7 @@ int PoseEstimator::voteOnce(const CameraIntrinsics &K, const ObjectModel &model,
 				  mmPerUnit, params.hocp);
 	}
 	timer_.lap(Stage::kHocp);
-	const size_t histSize = 2 * static_cast<size_t>(model.forest().dims);
+	const size_t histSize = kMaxHistogramSlots * static_cast<size_t>(model.forest().dims);
 	// Parts [i0, i1) walked in order, their votes appended to out.
 	auto walk = [&](int i0, int i1, std::span<float> hist, std::span<CastVote> out) {
 		size_t n = 0;
