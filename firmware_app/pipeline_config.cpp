@@ -342,6 +342,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	views.get("refine_top", e.views.refineTop);
 	views.get("budget_rotation_step_deg", e.views.budgetRotationStepDeg);
 	views.get("budget_refine_top", e.views.budgetRefineTop);
+	views.get("budget_coarse_points", e.views.budgetCoarsePoints);
+	views.get("budget_coarse_keep", e.views.budgetCoarseKeep);
 	views.get("keep", e.views.keep);
 	views.get("inlier_mm", e.views.inlierMm);
 	views.get("max_shift_mm", e.views.maxShiftMm);
@@ -350,6 +352,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	views.get("coarse_points", e.views.coarsePoints);
 	views.get("coarse_keep", e.views.coarseKeep);
 	views.get("viewpoints", s.viewTemplates.viewpoints);
+	views.get("budget_viewpoints", s.viewTemplates.budgetViewpoints);
 	views.get("points", s.viewTemplates.pointsPerView);
 	IHF_SECTION(views);
 
@@ -369,6 +372,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	budget.get("frame_ms", e.frameBudgetMs);
 	budget.get("max_iterations", e.budgetIterations);
 	budget.get("max_depth_windows", e.budgetDepthWindows);
+	budget.get("target_parts", e.budgetTargetParts);
 	budget.get("margin", e.budgetMargin);
 	IHF_SECTION(budget);
 
@@ -425,7 +429,13 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.views.distinctDeg >= 0, "view_search.distinct_deg"),
 			  inRange(e.views.coarsePoints >= 0 && e.views.coarsePoints <= kMaxViewPoints, "view_search.coarse_points"),
 			  inRange(e.views.coarseKeep >= 1 && e.views.coarseKeep <= kMaxCoarseKeep, "view_search.coarse_keep"),
+			  inRange(e.views.budgetCoarsePoints >= 0 && e.views.budgetCoarsePoints <= kMaxViewPoints,
+				  "view_search.budget_coarse_points"),
+			  inRange(e.views.budgetCoarseKeep >= 1 && e.views.budgetCoarseKeep <= kMaxCoarseKeep,
+				  "view_search.budget_coarse_keep"),
 			  inRange(s.viewTemplates.viewpoints >= 1 && s.viewTemplates.viewpoints <= 100000, "view_search.viewpoints"),
+			  inRange(s.viewTemplates.budgetViewpoints >= 1 && s.viewTemplates.budgetViewpoints <= 100000,
+				  "view_search.budget_viewpoints"),
 			  inRange(s.viewTemplates.pointsPerView >= 8 && s.viewTemplates.pointsPerView <= kMaxViewPoints, "view_search.points"),
 			  inRange(e.halfTurns.candidates >= 0 && e.halfTurns.candidates <= 4, "half_turns.candidates"),
 			  inRange(e.halfTurns.axes >= 0 && e.halfTurns.axes <= 1024, "half_turns.axes"),
@@ -434,6 +444,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.frameBudgetMs >= 0, "budget.frame_ms"),
 			  inRange(e.budgetIterations >= -1, "budget.max_iterations"),
 			  inRange(e.budgetDepthWindows >= -1, "budget.max_depth_windows"),
+			  inRange(e.budgetTargetParts >= 0, "budget.target_parts"),
 			  inRange(e.budgetMargin >= 0 && e.budgetMargin <= 10, "budget.margin"),
 			  inRange(s.limits.threads >= 0 && s.limits.threads <= WorkerPool::kMaxThreads, "limits.threads")})
 		if (!st)
@@ -553,11 +564,15 @@ Expected<RunSettings> loadRunConfig(const std::filesystem::path &path)
 Status prepareModel(ObjectModel &model, const EstimateSettings &settings)
 {
 	if (settings.estimator.views.inplane > 0 && model.viewTemplates().empty()) {
-		auto points = buildViewTemplatePoints(model.mesh(), model.params().diameter, settings.viewTemplates);
+		// Inside a frame budget the search runs on fewer viewpoints: at
+		// the offline count it does not fit a 33 ms frame at all.
+		ViewTemplateConfig vt = settings.viewTemplates;
+		if (settings.estimator.frameBudgetMs > 0)
+			vt.viewpoints = vt.budgetViewpoints;
+		auto points = buildViewTemplatePoints(model.mesh(), model.params().diameter, vt);
 		if (!points)
 			return points.error();
-		model.attachViewTemplates(settings.viewTemplates.viewpoints, settings.viewTemplates.pointsPerView,
-					  std::move(*points));
+		model.attachViewTemplates(vt.viewpoints, vt.pointsPerView, std::move(*points));
 	}
 	if (settings.renderMeshErrorMm > 0) {
 		auto simple = simplifyMesh(model.mesh(), settings.renderMeshErrorMm);

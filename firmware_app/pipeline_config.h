@@ -40,7 +40,8 @@ struct EstimateSettings {
 		return l;
 	}();
 	// Templates built at load for forest files written without them
-	// ([views] viewpoints, points).
+	// ([view_search] viewpoints, points; budget_viewpoints when the
+	// estimator has a frame budget).
 	ViewTemplateConfig viewTemplates;
 	// Hypotheses are rendered with the mesh simplified to this deviation
 	// ([render_mesh] max_error_mm); 0: the full mesh.

@@ -917,6 +917,8 @@ EstimatorConfig underBudget(EstimatorConfig c)
 		c.iterations = std::min(c.iterations, c.budgetIterations);
 	if (c.budgetDepthWindows >= 0)
 		c.depthWindows = std::min(c.depthWindows, c.budgetDepthWindows);
+	if (c.budgetTargetParts > 0)
+		c.targetParts = c.targetParts > 0 ? std::min(c.targetParts, c.budgetTargetParts) : c.budgetTargetParts;
 	c.views = underBudget(c.views);
 	return c;
 }

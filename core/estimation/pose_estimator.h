@@ -106,6 +106,10 @@ struct EstimatorConfig {
 	// stay anytime whatever the bound.
 	int budgetIterations = 0;
 	int budgetDepthWindows = 1;
+	// and parts kept near at most this many (targetParts; 0: as without a
+	// budget): a large object's registration alone overruns 33 ms at 600,
+	// and the time buys more in the view search (BENCHMARKS.md, session 14).
+	int budgetTargetParts = 30;
 	// A stage that can be cut runs only if its average cost plus this many
 	// mean deviations fits (stage_timer.h): the average alone is exceeded
 	// about half the time, and the box then overruns (BENCHMARKS.md,

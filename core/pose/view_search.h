@@ -73,6 +73,10 @@ struct ViewSearchConfig {
 	// take buys more as a further centre searched (BENCHMARKS.md, session 12).
 	float budgetRotationStepDeg = 0.0f;
 	int budgetRefineTop = 24;
+	// and a cheaper coarse pass, so that the search fits a frame at all
+	// (the templates' viewpoints are fewer too: ViewTemplateConfig).
+	int budgetCoarsePoints = 16;
+	int budgetCoarseKeep = 128;
 };
 
 // The settings a search inside a frame budget runs with.
@@ -80,6 +84,8 @@ inline ViewSearchConfig underBudget(ViewSearchConfig c)
 {
 	c.rotationStepDeg = c.budgetRotationStepDeg;
 	c.refineTop = std::min(c.refineTop, c.budgetRefineTop);
+	c.coarsePoints = c.budgetCoarsePoints;
+	c.coarseKeep = c.budgetCoarseKeep;
 	return c;
 }
 

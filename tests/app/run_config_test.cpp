@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/geometry/ply_loader.h"
+#include "core/model/object_model.h"
 #include "firmware_app/pipeline_config.h"
 #include "tests/common/test_paths.h"
 
@@ -136,6 +138,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.frameBudgetMs, b.frameBudgetMs);
 	EXPECT_EQ(a.budgetIterations, b.budgetIterations);
 	EXPECT_EQ(a.budgetDepthWindows, b.budgetDepthWindows);
+	EXPECT_EQ(a.budgetTargetParts, b.budgetTargetParts);
 	EXPECT_EQ(none->limits.threads, bundled->limits.threads);
 	EXPECT_EQ(a.search.levels, b.search.levels);
 	EXPECT_EQ(a.bank.viewpoints, b.bank.viewpoints);
@@ -151,6 +154,8 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.views.refineTop, b.views.refineTop);
 	EXPECT_EQ(a.views.budgetRotationStepDeg, b.views.budgetRotationStepDeg);
 	EXPECT_EQ(a.views.budgetRefineTop, b.views.budgetRefineTop);
+	EXPECT_EQ(a.views.budgetCoarsePoints, b.views.budgetCoarsePoints);
+	EXPECT_EQ(a.views.budgetCoarseKeep, b.views.budgetCoarseKeep);
 	EXPECT_EQ(a.views.maxShiftMm, b.views.maxShiftMm);
 	EXPECT_EQ(a.views.inlierMm, b.views.inlierMm);
 	EXPECT_EQ(a.views.keep, b.views.keep);
@@ -164,6 +169,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.halfTurns.inlierPivot, b.halfTurns.inlierPivot);
 	EXPECT_EQ(none->renderMeshErrorMm, bundled->renderMeshErrorMm);
 	EXPECT_EQ(none->viewTemplates.viewpoints, bundled->viewTemplates.viewpoints);
+	EXPECT_EQ(none->viewTemplates.budgetViewpoints, bundled->viewTemplates.budgetViewpoints);
 	EXPECT_EQ(none->viewTemplates.pointsPerView, bundled->viewTemplates.pointsPerView);
 }
 
@@ -182,8 +188,12 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\nrefine_top = 65\n", "view_search.refine_top"},
 		     {"[view_search]\nbudget_refine_top = 0\n", "view_search.budget_refine_top"},
 		     {"[view_search]\nbudget_rotation_step_deg = -1\n", "view_search.budget_rotation_step_deg"},
+		     {"[view_search]\nbudget_coarse_points = 300\n", "view_search.budget_coarse_points"},
+		     {"[view_search]\nbudget_coarse_keep = 0\n", "view_search.budget_coarse_keep"},
+		     {"[view_search]\nbudget_viewpoints = 0\n", "view_search.budget_viewpoints"},
 		     {"[budget]\nmax_iterations = -2\n", "budget.max_iterations"},
 		     {"[budget]\nmax_depth_windows = -2\n", "budget.max_depth_windows"},
+		     {"[budget]\ntarget_parts = -1\n", "budget.target_parts"},
 		     {"[search]\nlevels = -1\n", "search.levels"},
 		     {"[half_turns]\ncandidates = 5\n", "half_turns.candidates"},
 		     {"[half_turns]\nkeep = 0\n", "half_turns.keep"},
@@ -199,6 +209,29 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		ASSERT_FALSE(s.ok()) << text;
 		EXPECT_NE(s.error().message.find(key), std::string::npos) << s.error().message;
 		EXPECT_NE(s.error().message.find("e.toml"), std::string::npos) << s.error().message;
+	}
+}
+
+// View templates are built at load with the offline viewpoint count, or the
+// budget's when the estimator runs inside a frame budget (the device).
+TEST(EstimateConfig, PreparedModelHasTheBudgetsViewpointsInsideABudget)
+{
+	auto mesh = loadPly(test::lmoDir() / "models" / "obj_000001.ply");
+	ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+	auto settings = loadEstimateConfig({});
+	ASSERT_TRUE(settings.ok());
+	settings->viewTemplates.viewpoints = 40;
+	settings->viewTemplates.budgetViewpoints = 20;
+	settings->viewTemplates.pointsPerView = 16;
+	settings->renderMeshErrorMm = 0;
+	ModelParams params;
+	params.diameter = 102.1;
+	for (const float budgetMs : {0.0f, 33.0f}) {
+		OwnedObjectModel model(params, *mesh, {});
+		settings->estimator.frameBudgetMs = budgetMs;
+		ASSERT_TRUE(prepareModel(model, *settings).ok());
+		EXPECT_EQ(model.viewTemplates().viewpoints, budgetMs > 0 ? 20 : 40);
+		EXPECT_EQ(model.viewTemplates().points.size(), size_t{16} * (budgetMs > 0 ? 20 : 40));
 	}
 }
 

@@ -505,19 +505,25 @@ TEST_F(ViewSearchTest, ThreadsGiveTheSameProposals)
 } // namespace
 } // namespace ihf
 
-// Under a frame budget the climb falls back to its budget settings; the
-// rest of the search is unchanged.
-TEST(ViewSearch, UnderBudgetTakesTheBudgetClimb)
+// Under a frame budget the climb and the coarse pass fall back to their
+// budget settings; the rest of the search is unchanged.
+TEST(ViewSearch, UnderBudgetTakesTheBudgetClimbAndCoarsePass)
 {
 	ihf::ViewSearchConfig c;
 	c.rotationStepDeg = 8.0f;
 	c.refineTop = 64;
+	c.coarsePoints = 32;
+	c.coarseKeep = 1024;
 	c.budgetRotationStepDeg = 2.0f;
 	c.budgetRefineTop = 24;
+	c.budgetCoarsePoints = 12;
+	c.budgetCoarseKeep = 100;
 	c.lateralStepMm = 3.0f;
 	const ihf::ViewSearchConfig b = ihf::underBudget(c);
 	EXPECT_EQ(b.rotationStepDeg, 2.0f);
 	EXPECT_EQ(b.refineTop, 24);
+	EXPECT_EQ(b.coarsePoints, 12);
+	EXPECT_EQ(b.coarseKeep, 100);
 	EXPECT_EQ(b.lateralStepMm, 3.0f);
 	EXPECT_EQ(b.keep, c.keep);
 	EXPECT_EQ(b.inplane, c.inplane);

@@ -50,6 +50,7 @@ protected:
 		// The anytime machinery itself, without the device's bounds.
 		c.budgetIterations = -1;
 		c.budgetDepthWindows = -1;
+		c.budgetTargetParts = 0;
 		c.budgetMargin = 0; // predictions are the averages
 		return c;
 	}
@@ -505,3 +506,32 @@ TEST_F(EstimatorBudget, WarmUpSaysWhatIsWrong)
 
 } // namespace
 } // namespace ihf
+
+// The device's bounds: a budget never raises a setting above the unlimited
+// one, and 0 / -1 leave it as it is.
+TEST(EstimatorUnderBudget, BoundsIterationsSlabsAndParts)
+{
+	ihf::EstimatorConfig c;
+	c.iterations = 5;
+	c.depthWindows = 2;
+	c.targetParts = 600;
+	c.budgetIterations = 1;
+	c.budgetDepthWindows = 1;
+	c.budgetTargetParts = 300;
+	ihf::EstimatorConfig b = ihf::underBudget(c);
+	EXPECT_EQ(b.iterations, 1);
+	EXPECT_EQ(b.depthWindows, 1);
+	EXPECT_EQ(b.targetParts, 300);
+	c.targetParts = 200; // already below
+	EXPECT_EQ(ihf::underBudget(c).targetParts, 200);
+	c.targetParts = 0; // no target without a budget: the budget's
+	EXPECT_EQ(ihf::underBudget(c).targetParts, 300);
+	c.targetParts = 600;
+	c.budgetTargetParts = 0;
+	c.budgetIterations = -1;
+	c.budgetDepthWindows = -1;
+	b = ihf::underBudget(c);
+	EXPECT_EQ(b.targetParts, 600);
+	EXPECT_EQ(b.iterations, 5);
+	EXPECT_EQ(b.depthWindows, 2);
+}
