@@ -344,6 +344,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	views.get("budget_refine_top", e.views.budgetRefineTop);
 	views.get("budget_coarse_points", e.views.budgetCoarsePoints);
 	views.get("budget_coarse_keep", e.views.budgetCoarseKeep);
+	views.get("budget_depth_centres", e.views.budgetDepthCentres);
 	views.get("keep", e.views.keep);
 	views.get("inlier_mm", e.views.inlierMm);
 	views.get("max_shift_mm", e.views.maxShiftMm);
@@ -433,6 +434,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 				  "view_search.budget_coarse_points"),
 			  inRange(e.views.budgetCoarseKeep >= 1 && e.views.budgetCoarseKeep <= kMaxCoarseKeep,
 				  "view_search.budget_coarse_keep"),
+			  inRange(e.views.budgetDepthCentres >= 0 && e.views.budgetDepthCentres <= 4,
+				  "view_search.budget_depth_centres"),
 			  inRange(s.viewTemplates.viewpoints >= 1 && s.viewTemplates.viewpoints <= 100000, "view_search.viewpoints"),
 			  inRange(s.viewTemplates.budgetViewpoints >= 1 && s.viewTemplates.budgetViewpoints <= 100000,
 				  "view_search.budget_viewpoints"),

@@ -55,7 +55,7 @@ struct ViewSearchConfig {
 	// ray with every rotation's visible points put at the slab's median
 	// depth. The forest's translation votes miss some boxes entirely
 	// (BENCHMARKS.md); the box and the depth alone still place the object.
-	int depthCentres = 2;
+	int depthCentres = 3;
 	float anchorShare = 0.5f; // of the box's width and height around its centre giving the median
 	// The given box is off by some percent, so the box-centred translation
 	// is off sideways by millimetres, enough for a wrong rotation to score
@@ -77,6 +77,9 @@ struct ViewSearchConfig {
 	// (the templates' viewpoints are fewer too: ViewTemplateConfig).
 	int budgetCoarsePoints = 16;
 	int budgetCoarseKeep = 128;
+	// and at most this many depth centres: a further search leaves no time
+	// for the ICP polish (BENCHMARKS.md, session 14).
+	int budgetDepthCentres = 2;
 };
 
 // The settings a search inside a frame budget runs with.
@@ -86,6 +89,7 @@ inline ViewSearchConfig underBudget(ViewSearchConfig c)
 	c.refineTop = std::min(c.refineTop, c.budgetRefineTop);
 	c.coarsePoints = c.budgetCoarsePoints;
 	c.coarseKeep = c.budgetCoarseKeep;
+	c.depthCentres = std::min(c.depthCentres, c.budgetDepthCentres);
 	return c;
 }
 

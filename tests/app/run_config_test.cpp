@@ -156,6 +156,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.views.budgetRefineTop, b.views.budgetRefineTop);
 	EXPECT_EQ(a.views.budgetCoarsePoints, b.views.budgetCoarsePoints);
 	EXPECT_EQ(a.views.budgetCoarseKeep, b.views.budgetCoarseKeep);
+	EXPECT_EQ(a.views.budgetDepthCentres, b.views.budgetDepthCentres);
 	EXPECT_EQ(a.views.maxShiftMm, b.views.maxShiftMm);
 	EXPECT_EQ(a.views.inlierMm, b.views.inlierMm);
 	EXPECT_EQ(a.views.keep, b.views.keep);
@@ -190,6 +191,7 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\nbudget_rotation_step_deg = -1\n", "view_search.budget_rotation_step_deg"},
 		     {"[view_search]\nbudget_coarse_points = 300\n", "view_search.budget_coarse_points"},
 		     {"[view_search]\nbudget_coarse_keep = 0\n", "view_search.budget_coarse_keep"},
+		     {"[view_search]\nbudget_depth_centres = 5\n", "view_search.budget_depth_centres"},
 		     {"[view_search]\nbudget_viewpoints = 0\n", "view_search.budget_viewpoints"},
 		     {"[budget]\nmax_iterations = -2\n", "budget.max_iterations"},
 		     {"[budget]\nmax_depth_windows = -2\n", "budget.max_depth_windows"},

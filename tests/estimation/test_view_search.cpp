@@ -518,15 +518,20 @@ TEST(ViewSearch, UnderBudgetTakesTheBudgetClimbAndCoarsePass)
 	c.budgetRefineTop = 24;
 	c.budgetCoarsePoints = 12;
 	c.budgetCoarseKeep = 100;
+	c.depthCentres = 3;
+	c.budgetDepthCentres = 2;
 	c.lateralStepMm = 3.0f;
 	const ihf::ViewSearchConfig b = ihf::underBudget(c);
 	EXPECT_EQ(b.rotationStepDeg, 2.0f);
 	EXPECT_EQ(b.refineTop, 24);
 	EXPECT_EQ(b.coarsePoints, 12);
 	EXPECT_EQ(b.coarseKeep, 100);
+	EXPECT_EQ(b.depthCentres, 2);
 	EXPECT_EQ(b.lateralStepMm, 3.0f);
 	EXPECT_EQ(b.keep, c.keep);
 	EXPECT_EQ(b.inplane, c.inplane);
-	c.refineTop = 10; // never more climbers than unbudgeted
+	c.refineTop = 10; // never more climbers or centres than unbudgeted
 	EXPECT_EQ(ihf::underBudget(c).refineTop, 10);
+	c.depthCentres = 1;
+	EXPECT_EQ(ihf::underBudget(c).depthCentres, 1);
 }
