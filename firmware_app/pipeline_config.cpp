@@ -316,6 +316,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	TableReader icp(root["icp"].as_table(), file, "icp");
 	icp.get("enabled", e.icp);
 	icp.get("candidates", e.icpCandidates);
+	icp.get("forest_bests", e.polishForestBests);
 	icp.get("iterations", e.icpConfig.iterations);
 	icp.get("max_distance_mm", e.icpConfig.maxDistanceMm);
 	icp.get("min_distance_mm", e.icpConfig.minDistanceMm);

@@ -312,6 +312,32 @@ void PoseEstimator::searchRotationBank(const CameraIntrinsics &K, const ObjectMo
 	}
 }
 
+// The distinct best hypotheses, then the forest's own bests after a
+// refinement (the registration's and the last iteration's) when they are
+// not among them: the view proposals outscore an unpolished forest mode
+// that ICP would bring to the truth (syn200 bunny: a mode 11-17 deg off
+// ranked below the 16 polished and was lost once refinement had added its
+// modes to the ranking), so refinement never drops what the registration
+// alone would have polished.
+size_t PoseEstimator::polishCandidates(const EstimatorConfig &config, double diameter,
+				       const Hypothesis (&forestBest)[2], std::span<Hypothesis> out) const
+{
+	size_t n = std::min({keptCount_, static_cast<size_t>(std::max(0, config.icpCandidates)), out.size()});
+	std::copy_n(kept_.begin(), n, out.begin());
+	if (n == 0 || !config.polishForestBests || !forestBest[1].valid) // or no refinement ran
+		return n;
+	constexpr double kSameRotation = 10.0 * M_PI / 180.0;
+	for (const Hypothesis &f : forestBest) {
+		bool seen = !f.valid;
+		for (size_t i = 0; i < n && !seen; ++i)
+			seen = (out[i].pose.t - f.pose.t).norm() < 0.05 * diameter &&
+			       rotationAngle(out[i].pose.R, f.pose.R) < kSameRotation;
+		if (!seen && n < out.size())
+			out[n++] = f;
+	}
+	return n;
+}
+
 int PoseEstimator::keptCentres(double diameter, int max, Eigen::Vector3d *centres) const
 {
 	int nc = 0;
@@ -994,6 +1020,9 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	const size_t windows = std::min(windowCount_, static_cast<size_t>(std::max(0, config.depthWindows)));
 	UnitCubeFrame cube;
 	bool haveFrame = false;
+	// The forest's own bests, of the registration and of the last
+	// refinement: polished even when view proposals outrank them.
+	Hypothesis forestBest[2];
 	for (int k = 0; k <= config.iterations; ++k) {
 		if (k > 0 && !refinementFits(config)) {
 			out.budgetStopped = true;
@@ -1044,6 +1073,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		if (!iterBest.valid)
 			break;
 		out.iterationsDone = k;
+		forestBest[k == 0 ? 0 : 1] = iterBest;
 		// Eq. 10: the next iteration sees only this iteration's best
 		// hypothesis' depth range.
 		if (k < config.iterations) {
@@ -1067,8 +1097,9 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	// ICP on the crop cut to the hypothesis' own depth range; the best score
 	// wins. Each polish must fit the budget.
 	const bool polish = config.icp || config.search.levels > 0;
-	const size_t polishCount = polish ? std::min(keptCount_, static_cast<size_t>(std::max(0, config.icpCandidates))) : 0;
 	constexpr size_t kMaxPolished = 64; // polishes per box at most
+	Hypothesis candidates[kMaxPolished];
+	const size_t polishCount = polish ? polishCandidates(config, params.diameter, forestBest, candidates) : 0;
 	Hypothesis polished[kMaxPolished];
 	size_t polishedCount = 0;
 	// Candidates are polished in rounds, one per pool thread (each polish on
@@ -1076,16 +1107,16 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	// thread would; the budget is checked before each round.
 	const size_t round = static_cast<size_t>(workers_.threads());
 	Hypothesis searched[kMaxPolished], icped[kMaxPolished];
-	for (size_t c0 = 0; c0 < std::min(polishCount, kMaxPolished); c0 += round) {
+	for (size_t c0 = 0; c0 < polishCount; c0 += round) {
 		if (!icpFits(config.budgetMargin)) {
 			out.icpSkipped = true;
 			break;
 		}
 		const int64_t icpStart = timer_.last();
-		const size_t n = std::min(round, std::min(polishCount, kMaxPolished) - c0);
+		const size_t n = std::min(round, polishCount - c0);
 		workers_.run(static_cast<int>(n), [&](int k, int slot) {
 			const size_t c = c0 + static_cast<size_t>(k);
-			Hypothesis cand = kept_[c];
+			Hypothesis cand = candidates[c];
 			searched[c] = Hypothesis{};
 			icped[c] = Hypothesis{};
 			if (config.search.levels > 0) {

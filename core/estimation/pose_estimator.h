@@ -76,6 +76,9 @@ struct EstimatorConfig {
 	int targetParts = 600; // wider stride when a box would give more parts; 0: off
 	bool icp = true;
 	int icpCandidates = 16; // distinct best hypotheses polished (search, ICP)
+	// After a refinement, also the forest's best of the registration and of
+	// the last iteration when the ranking leaves them out (up to 2 more).
+	bool polishForestBests = true;
 	IcpConfig icpConfig;
 	// Score hill climbing of the polished hypotheses before their ICP.
 	LocalSearchConfig search;
@@ -299,6 +302,9 @@ private:
 	// Their shared tail: ICP from the cloud on the slot's renderer, then the score.
 	Hypothesis icpAndScore(const Hypothesis &h, std::span<const CloudPoint> cloud, const CameraIntrinsics &K,
 			       const ObjectModel &model, const EstimatorConfig &config, int slot);
+	// The hypotheses the polish runs on, into out; returns their count.
+	size_t polishCandidates(const EstimatorConfig &config, double diameter,
+				const Hypothesis (&forestBest)[2], std::span<Hypothesis> out) const;
 	// The first `max` distinct translations (0.1 diameter apart) of kept_.
 	int keptCentres(double diameter, int max, Eigen::Vector3d *centres) const;
 	void report(int iteration, const char *stage, int rank, const Pose &virtualPose,

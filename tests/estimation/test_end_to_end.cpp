@@ -3,9 +3,12 @@
 // render, end to end (training views -> parts -> forest -> file -> votes ->
 // refinement); training is deterministic; bad boxes give "no pose".
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string_view>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -83,6 +86,20 @@ protected:
 		delete dir_;
 	}
 
+	// Training view i's appearance at t (the crop's rotation undone).
+	static Pose viewAt(int i, const Eigen::Vector3d &t)
+	{
+		Pose p;
+		p.t = t;
+		p.R = rayAlignment(t) * sampleTrainingViews(trained_->set.views)[static_cast<size_t>(i)].pose.R;
+		return p;
+	}
+	static void render(const Pose &pose, DepthImageMm &depth)
+	{
+		DepthRenderer renderer(model_->mesh().vertices.size());
+		ASSERT_TRUE(renderer.render(model_->mesh(), pose, kKinect, depth.view()).ok());
+	}
+
 	static Trained *trained_;
 	static ObjectModel *model_;
 	static std::filesystem::path *dir_;
@@ -92,30 +109,31 @@ Trained *EndToEnd::trained_ = nullptr;
 ObjectModel *EndToEnd::model_ = nullptr;
 std::filesystem::path *EndToEnd::dir_ = nullptr;
 
-TEST_F(EndToEnd, RecoversAKnownPoseOnACleanRender)
+// The box around a depth image's valid pixels, 10 % wider on each side.
+PixelBox boxAround(const DepthImageMm &depth)
 {
-	// The appearance of a training view, placed off the optical axis: the
-	// virtual crop must undo the off-axis rotation for the votes to fit.
-	auto views = sampleTrainingViews(trained_->set.views);
-	Pose gt;
-	gt.t = Eigen::Vector3d(60, -40, 800);
-	gt.R = rayAlignment(gt.t) * views[37].pose.R;
-
-	DepthRenderer renderer(model_->mesh().vertices.size());
-	DepthImageMm depth(640, 480, 0.0f);
-	ASSERT_TRUE(renderer.render(model_->mesh(), gt, kKinect, depth.view()).ok());
-	int x0 = 640, y0 = 480, x1 = 0, y1 = 0;
-	for (int y = 0; y < 480; ++y)
-		for (int x = 0; x < 640; ++x)
+	int x0 = depth.width(), y0 = depth.height(), x1 = 0, y1 = 0;
+	for (int y = 0; y < depth.height(); ++y)
+		for (int x = 0; x < depth.width(); ++x)
 			if (depth.at(x, y) > 0) {
 				x0 = std::min(x0, x);
 				y0 = std::min(y0, y);
 				x1 = std::max(x1, x);
 				y1 = std::max(y1, y);
 			}
-	ASSERT_LT(x0, x1);
+	EXPECT_LT(x0, x1);
 	const int mx = (x1 - x0) / 10 + 2, my = (y1 - y0) / 10 + 2;
-	PixelBox box{x0 - mx, y0 - my, x1 - x0 + 1 + 2 * mx, y1 - y0 + 1 + 2 * my};
+	return PixelBox{x0 - mx, y0 - my, x1 - x0 + 1 + 2 * mx, y1 - y0 + 1 + 2 * my};
+}
+
+TEST_F(EndToEnd, RecoversAKnownPoseOnACleanRender)
+{
+	// The appearance of a training view, placed off the optical axis: the
+	// virtual crop must undo the off-axis rotation for the votes to fit.
+	const Pose gt = viewAt(37, Eigen::Vector3d(60, -40, 800));
+	DepthImageMm depth(640, 480, 0.0f);
+	render(gt, depth);
+	const PixelBox box = boxAround(depth);
 
 	PoseEstimator estimator;
 	EstimatorConfig cfg;
@@ -126,6 +144,88 @@ TEST_F(EndToEnd, RecoversAKnownPoseOnACleanRender)
 		<< "rotation error " << rotationAngle(e.pose.R, gt.R) * 180 / M_PI << " deg, translation "
 		<< (e.pose.t - gt.t).norm() << " mm";
 	EXPECT_GT(e.confidence, 0.5f);
+}
+
+// Refinement adds its modes to the ranking of the hypotheses to polish; the
+// forest's own bests (the registration's and the last iteration's) are
+// polished even when they rank below the polish's count, so refinement
+// never drops a mode the registration alone would have polished.
+TEST_F(EndToEnd, RefinementPolishesTheForestsOwnBests)
+{
+	struct Events final : EstimateObserver {
+		std::vector<HypothesisEvent> all;
+		void onHypothesis(const HypothesisEvent &e) override { all.push_back(e); }
+	} events;
+	const Pose gt = viewAt(5, Eigen::Vector3d(-30, 20, 780));
+	DepthImageMm depth(640, 480, 0.0f);
+	render(gt, depth);
+	const PixelBox box = boxAround(depth);
+	// A second ape beside it, turned, and a wall behind both: clutter
+	// the registration votes on.
+	DepthImageMm second(640, 480, 0.0f);
+	render(viewAt(25, gt.t + Eigen::Vector3d(40, 10, 0)), second);
+	for (int y = box.y; y < box.y + box.h; ++y)
+		for (int x = box.x; x < box.x + box.w; ++x) {
+			const float z = second.at(x, y);
+			if (z > 0 && (depth.at(x, y) <= 0 || z < depth.at(x, y)))
+				depth.at(x, y) = z;
+			if (depth.at(x, y) <= 0)
+				depth.at(x, y) = static_cast<float>(gt.t.z() + 60.0);
+		}
+
+	PoseEstimator estimator;
+	estimator.setObserver(&events);
+	EstimatorConfig cfg;
+	cfg.iterations = 2;
+	cfg.icpCandidates = 1; // the ranking alone polishes only its best
+	cfg.halfTurns.candidates = 0;
+	PoseEstimate e = estimator.estimate(depth.view(), kKinect, box, *model_, cfg);
+	ASSERT_TRUE(e.found) << e.reason;
+
+	const double same = 0.05 * trained_->params.diameter;
+	auto near = [&](const HypothesisEvent &a, const HypothesisEvent &b) {
+		return (a.pose.t - b.pose.t).norm() < same && rotationAngle(a.pose.R, b.pose.R) < 10.0 * M_PI / 180.0;
+	};
+	// The best mode of each iteration, and of all (the ranking's first:
+	// no view search or rotation bank runs on this model).
+	std::vector<const HypothesisEvent *> bestOf(static_cast<size_t>(cfg.iterations) + 1, nullptr);
+	const HypothesisEvent *top = nullptr;
+	std::vector<int> polishedIterations;
+	for (const HypothesisEvent &ev : events.all) {
+		if (std::string_view(ev.stage) == "icp")
+			polishedIterations.push_back(ev.iteration);
+		if (std::string_view(ev.stage) != "mode")
+			continue;
+		const HypothesisEvent *&b = bestOf[static_cast<size_t>(ev.iteration)];
+		if (!b || ev.score.score > b->score.score)
+			b = &ev;
+		if (!top || ev.score.score > top->score.score)
+			top = &ev;
+	}
+	ASSERT_TRUE(top && bestOf[0] && bestOf[2]);
+	auto polished = [&](int k) {
+		return std::find(polishedIterations.begin(), polishedIterations.end(), k) != polishedIterations.end();
+	};
+	int forced = 0;
+	if (!near(*bestOf[0], *top)) {
+		EXPECT_TRUE(polished(0)) << "the registration's best mode was not polished";
+		++forced;
+	}
+	if (!near(*bestOf[2], *top) && !near(*bestOf[2], *bestOf[0])) {
+		EXPECT_TRUE(polished(2)) << "the last iteration's best mode was not polished";
+		++forced;
+	}
+	// The scene is one where both forest bests rank below the first (the
+	// only one the ranking polishes here).
+	EXPECT_EQ(forced, 2);
+
+	// Off ([icp] forest_bests = false): the ranking's first alone.
+	events.all.clear();
+	cfg.polishForestBests = false;
+	ASSERT_TRUE(estimator.estimate(depth.view(), kKinect, box, *model_, cfg).found);
+	EXPECT_EQ(std::count_if(events.all.begin(), events.all.end(),
+				[](const HypothesisEvent &ev) { return std::string_view(ev.stage) == "icp"; }),
+		  1);
 }
 
 TEST_F(EndToEnd, BadBoxesGiveNoPoseWithAReason)

@@ -54,7 +54,7 @@ TEST_F(EstimateCli, ReportsStagesBudgetAndArena)
 	// (on more, a polish's cloud is charged to ICP), so that the stage calls
 	// below can be counted exactly.
 	const auto cfg = *dir_ / "single_pass.toml";
-	std::ofstream(cfg) << "[refinement]\ndepth_windows = 0\n[icp]\ncandidates = 1\n";
+	std::ofstream(cfg) << "[refinement]\ndepth_windows = 0\n[icp]\ncandidates = 1\nforest_bests = false\n";
 	auto r = test::runIhf(args("--iterations 1 --budget-ms 0 --threads 1 --config '" + cfg.string() + "' --stats-json '" +
 				   json.string() + "'"));
 	ASSERT_EQ(r.exitCode, 0) << r.output;
