@@ -10,6 +10,8 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include "core/common/special_file.h"
+
 namespace ihf {
 
 namespace fs = std::filesystem;
@@ -36,6 +38,9 @@ Expected<RecordingWriter> RecordingWriter::create(const fs::path &file,
 	if (options.zlibLevel < 0 || options.zlibLevel > 9)
 		return makeError(Errc::kInvalidArgument, file.string() + ": zlib level must be 0..9");
 
+	if (isSpecialFile(file)) // its index is written last; a device would lose it
+		return makeError(Errc::kInvalidArgument,
+				 file.string() + ": not a regular file; a recording is written to a file");
 	std::error_code ec;
 	if (fs::is_directory(file, ec))
 		return makeError(Errc::kInvalidArgument, file.string() + ": is a directory");

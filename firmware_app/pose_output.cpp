@@ -11,6 +11,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include "core/common/special_file.h"
 #include "firmware_app/box_feed.h"
 
 namespace ihf::app {
@@ -84,8 +85,12 @@ Expected<std::unique_ptr<PoseOutput>> PoseOutput::open(const std::string &spec, 
 		o->feed_ = feed;
 	} else if (spec.rfind("file:", 0) == 0 && spec.size() > 5) {
 		o->path_ = spec.substr(5);
-		o->tmp_ = o->path_ + ".tmp-" + std::to_string(getpid());
-		o->fd_ = ::open(o->tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+		// A device or FIFO is written in place; a file through a
+		// temporary renamed over it at the end.
+		if (!isSpecialFile(o->path_))
+			o->tmp_ = o->path_ + ".tmp-" + std::to_string(getpid());
+		o->fd_ = o->tmp_.empty() ? ::open(o->path_.c_str(), O_WRONLY | O_CLOEXEC)
+					 : ::open(o->tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
 		if (o->fd_ < 0)
 			return makeError(Errc::kIo, o->path_ + ": cannot write the poses: " + std::strerror(errno));
 		o->ownsFd_ = true;
@@ -194,6 +199,13 @@ Status PoseOutput::finish()
 {
 	if (!ownsFd_ || fd_ < 0)
 		return {};
+	if (tmp_.empty()) { // written in place
+		const bool closed = close(fd_) == 0;
+		fd_ = -1;
+		if (!closed)
+			return makeError(Errc::kIo, path_ + ": cannot finish the poses: " + std::strerror(errno));
+		return {};
+	}
 	const bool synced = fsync(fd_) == 0;
 	const bool closed = close(fd_) == 0;
 	fd_ = -1;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/dataset/atomic_file.h"
 
+#include "core/common/special_file.h"
+
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -58,6 +60,21 @@ Status writeFileAtomic(const fs::path &file,
 	if (fs::is_directory(file, ec))
 		return makeError(Errc::kInvalidArgument,
 				 file.string() + ": is a directory, cannot write a file there");
+
+	if (isSpecialFile(file)) { // a device or FIFO: written in place
+		std::FILE *stream = std::fopen(file.c_str(), "wb");
+		if (!stream)
+			return makeError(Errc::kIo, file.string() + ": cannot open: " + errnoText(errno));
+		Status filled = fill(stream);
+		const bool flushed = filled && std::fflush(stream) == 0 && !std::ferror(stream);
+		const int err = errno;
+		const bool closed = std::fclose(stream) == 0;
+		if (!filled)
+			return filled.error();
+		if (!flushed || !closed)
+			return makeError(Errc::kIo, file.string() + ": write failed: " + errnoText(flushed ? errno : err));
+		return {};
+	}
 
 	const fs::path parent = file.parent_path();
 	if (!parent.empty()) {

@@ -4,7 +4,8 @@
 // Atomic file replacement: the content goes to "<file>.tmp-<pid>-<n>" in the
 // same folder and is renamed over <file> only when fully written, so readers
 // see either the old file or the new one, never a half file. Parent folders
-// are created as needed; on any failure the temporary file is removed.
+// are created as needed; on any failure the temporary file is removed. An
+// existing device or FIFO (/dev/null) is written in place (special_file.h).
 
 #include <cstdio>
 #include <filesystem>

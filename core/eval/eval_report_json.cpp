@@ -2,12 +2,10 @@
 #include "core/eval/eval_report_json.h"
 
 #include <cmath>
-#include <fstream>
-#include <system_error>
-
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
+
+#include "core/dataset/atomic_file.h"
 
 namespace ihf {
 
@@ -94,26 +92,7 @@ std::string evalReportJson(const EvalReport &report)
 
 Status writeEvalReportJson(const std::filesystem::path &file, const EvalReport &report)
 {
-	const std::string text = evalReportJson(report);
-	std::filesystem::path tmp = file;
-	tmp += ".tmp" + std::to_string(::getpid());
-	{
-		std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-		out << text;
-		out.flush();
-		if (!out) {
-			std::error_code ec;
-			std::filesystem::remove(tmp, ec);
-			return makeError(Errc::kIo, file.string() + ": cannot write");
-		}
-	}
-	std::error_code ec;
-	std::filesystem::rename(tmp, file, ec);
-	if (ec) {
-		std::filesystem::remove(tmp, ec);
-		return makeError(Errc::kIo, file.string() + ": cannot rename into place");
-	}
-	return {};
+	return writeFileAtomic(file, evalReportJson(report));
 }
 
 } // namespace ihf

@@ -3,9 +3,13 @@
 // was and no temporary file behind.
 
 #include <csignal>
+#include <fstream>
+#include <iterator>
 #include <random>
+#include <thread>
 
 #include <sys/resource.h>
+#include <sys/stat.h>
 
 #include <gtest/gtest.h>
 
@@ -58,6 +62,26 @@ TEST(AtomicWrite, TargetIsADirectory)
 	ASSERT_FALSE(e);
 	EXPECT_EQ(e.error().code, Errc::kInvalidArgument);
 	EXPECT_FALSE(fs::exists(dir / "empty.png"));
+}
+
+// A FIFO (as /dev/null or /dev/stdout) is written in place: a rename over
+// it would replace the device by a regular file.
+TEST(AtomicWrite, AFifoIsWrittenInPlace)
+{
+	auto dir = test::freshTempDir("atomic_fifo");
+	const fs::path fifo = dir / "out.csv";
+	ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+	std::string got;
+	std::thread reader([&] {
+		std::ifstream in(fifo, std::ios::binary);
+		got.assign(std::istreambuf_iterator<char>(in), {});
+	});
+	const Status written = writeResultsCsv(fifo, {});
+	reader.join();
+	ASSERT_TRUE(written) << written.error().message;
+	EXPECT_EQ(got, "scene_id,im_id,obj_id,score,R,t,time\n");
+	EXPECT_TRUE(fs::is_fifo(fifo));
+	EXPECT_TRUE(test::tempLeftovers(dir).empty());
 }
 
 TEST(AtomicWrite, FailedFillKeepsOldFile)

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The .rec format: round trips, seeking, damage handling and pacing.
 
+#include <sys/stat.h>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -303,6 +305,21 @@ TEST(RecordingBadHeader, WrongMagicVersionTruncationAndCrc)
 	auto missing = RecordingReader::open(dir / "absent.rec");
 	ASSERT_FALSE(missing.ok());
 	EXPECT_EQ(missing.error().code, Errc::kNotFound);
+}
+
+// A device or FIFO cannot take a recording (its index is written last, and
+// a rename over it would replace the device): a clear error, nothing made.
+TEST(RecordingWriter, RefusesADeviceOrFifo)
+{
+	const fs::path dir = freshTempDir("rec_fifo");
+	const fs::path fifo = dir / "out.rec";
+	ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+	auto w = RecordingWriter::create(fifo, testHeader());
+	ASSERT_FALSE(w.ok());
+	EXPECT_EQ(w.error().code, Errc::kInvalidArgument);
+	EXPECT_NE(w.error().message.find("not a regular file"), std::string::npos) << w.error().message;
+	EXPECT_TRUE(fs::is_fifo(fifo));
+	EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
 }
 
 TEST(RecordingWriter, IsAtomicAndValidatesFrames)

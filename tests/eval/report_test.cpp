@@ -83,10 +83,13 @@ TEST(EvalReport, JsonHoldsEverything)
 	EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir),
 				std::filesystem::directory_iterator()),
 		  1);
-	// An unwritable place is an error naming the file.
-	Status bad = writeEvalReportJson(dir / "no_such_dir" / "r.json", sampleReport());
+	// An unwritable place (a folder that is a file) is an error naming the
+	// file; a missing folder is created, as by the other writers.
+	std::ofstream(dir / "blocker") << "keep";
+	Status bad = writeEvalReportJson(dir / "blocker" / "r.json", sampleReport());
 	ASSERT_FALSE(bad.ok());
 	EXPECT_NE(bad.error().message.find("r.json"), std::string::npos);
+	EXPECT_TRUE(writeEvalReportJson(dir / "new_dir" / "r.json", sampleReport()).ok());
 }
 
 TEST(EvalReport, PlotDrawsColouredCurves)
