@@ -45,6 +45,11 @@ if ! grep -qx "$debarch" <<<"$foreign"; then
 	$sudo dpkg --add-architecture "$debarch"
 	need_update=1
 fi
+# The architecture can be there without its package lists (an earlier update
+# that failed half-way): update then too.
+if ! apt-cache show "zlib1g:$debarch" >/dev/null 2>&1; then
+	need_update=1
+fi
 if ((${#missing[@]})) || [ -n "${need_update:-}" ]; then
 	$sudo apt-get update -qq || echo "cross-test: apt-get update reported errors; going on" >&2
 fi
