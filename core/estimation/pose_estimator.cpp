@@ -17,6 +17,13 @@ namespace ihf {
 
 namespace {
 
+// Two hypotheses are one when within sameTranslationMm and 10 deg.
+bool samePose(const Pose &a, const Pose &b, double sameTranslationMm)
+{
+	constexpr double kSameRotation = 10.0 * M_PI / 180.0;
+	return (a.t - b.t).norm() < sameTranslationMm && rotationAngle(a.R, b.R) < kSameRotation;
+}
+
 IbsLimits ibsLimits(const EstimatorLimits &limits)
 {
 	IbsLimits ibs;
@@ -252,11 +259,9 @@ void PoseEstimator::report(int iteration, const char *stage, int rank, const Pos
 // kept one replaces it only if it scores higher.
 void PoseEstimator::keep(const Hypothesis &h, float sameTranslationMm)
 {
-	constexpr double kSameRotation = 10.0 * M_PI / 180.0;
 	for (size_t i = 0; i < keptCount_; ++i) {
 		Hypothesis &k = kept_[i];
-		if ((k.pose.t - h.pose.t).norm() < sameTranslationMm &&
-		    rotationAngle(k.pose.R, h.pose.R) < kSameRotation) {
+		if (samePose(k.pose, h.pose, sameTranslationMm)) {
 			if (h.score.score <= k.score.score)
 				return;
 			// Remove it; the new one is inserted below.
@@ -326,12 +331,10 @@ size_t PoseEstimator::polishCandidates(const EstimatorConfig &config, double dia
 	std::copy_n(kept_.begin(), n, out.begin());
 	if (n == 0 || !config.polishForestBests || !forestBest[1].valid) // or no refinement ran
 		return n;
-	constexpr double kSameRotation = 10.0 * M_PI / 180.0;
 	for (const Hypothesis &f : forestBest) {
 		bool seen = !f.valid;
 		for (size_t i = 0; i < n && !seen; ++i)
-			seen = (out[i].pose.t - f.pose.t).norm() < 0.05 * diameter &&
-			       rotationAngle(out[i].pose.R, f.pose.R) < kSameRotation;
+			seen = samePose(out[i].pose, f.pose, 0.05 * diameter);
 		if (!seen && n < out.size())
 			out[n++] = f;
 	}
