@@ -105,7 +105,8 @@ PoseOutput::~PoseOutput()
 {
 	if (ownsFd_ && fd_ >= 0) {
 		close(fd_);
-		unlink(tmp_.c_str()); // not finished: no half file under the final name
+		if (!tmp_.empty()) // not finished: no half file under the final name
+			unlink(tmp_.c_str());
 	}
 }
 
