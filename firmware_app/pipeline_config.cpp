@@ -317,6 +317,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	icp.get("enabled", e.icp);
 	icp.get("candidates", e.icpCandidates);
 	icp.get("forest_bests", e.polishForestBests);
+	icp.get("final_iterations", e.finalIcpIterations);
 	icp.get("iterations", e.icpConfig.iterations);
 	icp.get("max_distance_mm", e.icpConfig.maxDistanceMm);
 	icp.get("min_distance_mm", e.icpConfig.minDistanceMm);
@@ -405,6 +406,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.score.occludedWeight >= 0, "score.occluded_weight"),
 			  inRange(e.score.residualWeight >= 0 && e.score.residualWeight <= 1, "score.residual_weight"),
 			  inRange(e.icpCandidates >= 0, "icp.candidates"),
+			  inRange(e.finalIcpIterations >= 0 && e.finalIcpIterations <= 100, "icp.final_iterations"),
 			  inRange(e.search.levels >= 0, "search.levels"),
 			  inRange(e.search.rotationStepDeg > 0, "search.rotation_step_deg"),
 			  inRange(e.search.translationStepMm >= 0, "search.translation_step_mm"),

@@ -416,24 +416,24 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 
 PoseEstimator::Hypothesis PoseEstimator::polishIcp(const Hypothesis &h, const CameraIntrinsics &K,
 						   const ObjectModel &model, const EstimatorConfig &config,
-						   Stage stage)
+						   Stage stage, const IcpConfig *icp)
 {
 	// What ran before is the caller's stage, the cloud the cloud's, the
 	// rest ICP's; the caller's lap counts the call.
 	timer_.resume(stage);
 	maskToHypothesis(h.score, config);
 	const int n = buildCloud(workingView_, K, model.params());
-	Hypothesis out = icpAndScore(h, cloud_.first(static_cast<size_t>(n)), K, model, config, 0);
+	Hypothesis out = icpAndScore(h, cloud_.first(static_cast<size_t>(n)), K, model, config, 0, icp);
 	timer_.resume(Stage::kIcp);
 	return out;
 }
 
 PoseEstimator::Hypothesis PoseEstimator::icpAndScore(const Hypothesis &h, std::span<const CloudPoint> cloud,
 						     const CameraIntrinsics &K, const ObjectModel &model,
-						     const EstimatorConfig &config, int slot)
+						     const EstimatorConfig &config, int slot, const IcpConfig *icpConfig)
 {
 	IcpResult icp = refineIcp(cloud, model.renderMesh(), h.pose, K, rendererOf(slot), renderViewOf(slot),
-				  config.icpConfig);
+				  icpConfig ? *icpConfig : config.icpConfig);
 	Hypothesis out;
 	if (icp.iterations > 0) {
 		out.pose = icp.pose;
@@ -446,15 +446,16 @@ PoseEstimator::Hypothesis PoseEstimator::icpAndScore(const Hypothesis &h, std::s
 
 PoseEstimator::Hypothesis PoseEstimator::polishOn(const Hypothesis &h, const CameraIntrinsics &K,
 						  const ObjectModel &model, const EstimatorConfig &config, Stage stage,
-						  int slot)
+						  int slot, const IcpConfig *icp)
 {
 	// One thread: the stage counters see the cloud apart.
-	return workers_.threads() == 1 ? polishIcp(h, K, model, config, stage)
-				       : polishIcpIn(h, K, model, config, slot);
+	return workers_.threads() == 1 ? polishIcp(h, K, model, config, stage, icp)
+				       : polishIcpIn(h, K, model, config, slot, icp);
 }
 
 PoseEstimator::Hypothesis PoseEstimator::polishIcpIn(const Hypothesis &h, const CameraIntrinsics &K,
-						     const ObjectModel &model, const EstimatorConfig &config, int slot)
+						     const ObjectModel &model, const EstimatorConfig &config, int slot,
+						     const IcpConfig *icp)
 {
 	const size_t pixels = static_cast<size_t>(observedView_.width) * observedView_.height;
 	const size_t at = pixels * static_cast<size_t>(std::max(0, slot - 1));
@@ -467,7 +468,7 @@ PoseEstimator::Hypothesis PoseEstimator::polishIcpIn(const Hypothesis &h, const 
 	auto points = cloudFromDepth(maskView, K, PixelBox{0, 0, maskView.width, maskView.height},
 				     model.params().cloud, cloud);
 	const int n = points ? *points : 0;
-	return icpAndScore(h, cloud.first(static_cast<size_t>(n)), K, model, config, slot);
+	return icpAndScore(h, cloud.first(static_cast<size_t>(n)), K, model, config, slot, icp);
 }
 
 // Renders the pose into renderView_ and calls f with every covered pixel
@@ -1165,6 +1166,21 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		if (turned.score.score > best.score.score) {
 			best = turned;
 			out.icpApplied = true;
+		}
+	}
+	if (config.icp && config.finalIcpIterations > 0 && polishCount > 0 && icpFits(config.budgetMargin)) {
+		IcpConfig last = config.icpConfig;
+		last.iterations = config.finalIcpIterations;
+		last.maxDistanceMm = last.minDistanceMm;
+		const int64_t icpStart = timer_.last();
+		const Hypothesis converged = polishOn(best, vk, model, config, Stage::kIcp, 0, &last);
+		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart);
+		if (converged.valid) {
+			report(converged.iteration, "icp_final", 0, converged.pose, converged.score, 0);
+			if (converged.score.score >= best.score.score) {
+				best = converged;
+				out.icpApplied = true;
+			}
 		}
 	}
 	out.bestIteration = best.iteration;

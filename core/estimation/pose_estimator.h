@@ -80,6 +80,12 @@ struct EstimatorConfig {
 	// the last iteration when the ranking leaves them out (up to 2 more).
 	bool polishForestBests = true;
 	IcpConfig icpConfig;
+	// The winner's last polish: this many more ICP iterations, every one
+	// at icpConfig's final gate (minDistanceMm), kept when the score does
+	// not drop. The candidates' ICP narrows its gate over its iterations
+	// and stops where that schedule ends, not where the fit has
+	// converged. 0: off.
+	int finalIcpIterations = 0;
 	// Score hill climbing of the polished hypotheses before their ICP.
 	LocalSearchConfig search;
 	// Every bank rotation scored at the best distinct translations after
@@ -289,19 +295,21 @@ private:
 	// ICP on the crop cut to h's depth range, then the score: the polished
 	// hypothesis, or an invalid one when ICP could not run. The time before
 	// it is charged to `stage`, the ICP and its score to kIcp.
+	// `icp` replaces config.icpConfig when given (the final polish).
 	Hypothesis polishIcp(const Hypothesis &h, const CameraIntrinsics &K, const ObjectModel &model,
-			     const EstimatorConfig &config, Stage stage);
+			     const EstimatorConfig &config, Stage stage, const IcpConfig *icp = nullptr);
 	// The same on a pool thread's slot (its own mask, cloud and render),
 	// without the clock: the caller charges the round, and the clock is
 	// read by the calling thread alone.
 	Hypothesis polishIcpIn(const Hypothesis &h, const CameraIntrinsics &K, const ObjectModel &model,
-			       const EstimatorConfig &config, int slot);
+			       const EstimatorConfig &config, int slot, const IcpConfig *icp = nullptr);
 	// polishIcp() on one thread, polishIcpIn() on several.
 	Hypothesis polishOn(const Hypothesis &h, const CameraIntrinsics &K, const ObjectModel &model,
-			    const EstimatorConfig &config, Stage stage, int slot);
+			    const EstimatorConfig &config, Stage stage, int slot, const IcpConfig *icp = nullptr);
 	// Their shared tail: ICP from the cloud on the slot's renderer, then the score.
 	Hypothesis icpAndScore(const Hypothesis &h, std::span<const CloudPoint> cloud, const CameraIntrinsics &K,
-			       const ObjectModel &model, const EstimatorConfig &config, int slot);
+			       const ObjectModel &model, const EstimatorConfig &config, int slot,
+			       const IcpConfig *icp = nullptr);
 	// The hypotheses the polish runs on, into out; returns their count.
 	size_t polishCandidates(const EstimatorConfig &config, double diameter,
 				const Hypothesis (&forestBest)[2], std::span<Hypothesis> out) const;

@@ -202,6 +202,7 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[half_turns]\nkeep = 0\n", "half_turns.keep"},
 		     {"[render_mesh]\nmax_error_mm = -1\n", "render_mesh.max_error_mm"},
 		     {"[score]\nresidual_weight = 1.5\n", "score.residual_weight"},
+		     {"[icp]\nfinal_iterations = -1\n", "icp.final_iterations"},
 		     {"[votes]\nrotation_modes = 0\n", "votes.rotation_modes"},
 		     {"[votes]\nmax_shift_votes = -1\n", "votes.max_shift_votes"},
 		     {"[limits]\nthreads = 9\n", "limits.threads"},
