@@ -416,7 +416,7 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 
 PoseEstimator::Hypothesis PoseEstimator::polishIcp(const Hypothesis &h, const CameraIntrinsics &K,
 						   const ObjectModel &model, const EstimatorConfig &config,
-						   Stage stage, const IcpConfig *icp)
+						   Stage stage, const IcpConfig &icp)
 {
 	// What ran before is the caller's stage, the cloud the cloud's, the
 	// rest ICP's; the caller's lap counts the call.
@@ -430,10 +430,10 @@ PoseEstimator::Hypothesis PoseEstimator::polishIcp(const Hypothesis &h, const Ca
 
 PoseEstimator::Hypothesis PoseEstimator::icpAndScore(const Hypothesis &h, std::span<const CloudPoint> cloud,
 						     const CameraIntrinsics &K, const ObjectModel &model,
-						     const EstimatorConfig &config, int slot, const IcpConfig *icpConfig)
+						     const EstimatorConfig &config, int slot, const IcpConfig &icpConfig)
 {
 	IcpResult icp = refineIcp(cloud, model.renderMesh(), h.pose, K, rendererOf(slot), renderViewOf(slot),
-				  icpConfig ? *icpConfig : config.icpConfig);
+				  icpConfig);
 	Hypothesis out;
 	if (icp.iterations > 0) {
 		out.pose = icp.pose;
@@ -446,7 +446,7 @@ PoseEstimator::Hypothesis PoseEstimator::icpAndScore(const Hypothesis &h, std::s
 
 PoseEstimator::Hypothesis PoseEstimator::polishOn(const Hypothesis &h, const CameraIntrinsics &K,
 						  const ObjectModel &model, const EstimatorConfig &config, Stage stage,
-						  int slot, const IcpConfig *icp)
+						  int slot, const IcpConfig &icp)
 {
 	// One thread: the stage counters see the cloud apart.
 	return workers_.threads() == 1 ? polishIcp(h, K, model, config, stage, icp)
@@ -455,7 +455,7 @@ PoseEstimator::Hypothesis PoseEstimator::polishOn(const Hypothesis &h, const Cam
 
 PoseEstimator::Hypothesis PoseEstimator::polishIcpIn(const Hypothesis &h, const CameraIntrinsics &K,
 						     const ObjectModel &model, const EstimatorConfig &config, int slot,
-						     const IcpConfig *icp)
+						     const IcpConfig &icp)
 {
 	const size_t pixels = static_cast<size_t>(observedView_.width) * observedView_.height;
 	const size_t at = pixels * static_cast<size_t>(std::max(0, slot - 1));
@@ -595,7 +595,7 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 		Hypothesis polishedTurns[kMaxKeep];
 		if (config.icp)
 			workers_.run(nt, [&](int j, int slot) {
-				polishedTurns[j] = polishOn(top[j], K, model, config, Stage::kHalfTurns, slot);
+				polishedTurns[j] = polishOn(top[j], K, model, config, Stage::kHalfTurns, slot, config.icpConfig);
 			});
 		for (int j = 0; j < nt; ++j) {
 			const Hypothesis &p = polishedTurns[j];
@@ -1135,7 +1135,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 				}
 			}
 			if (config.icp)
-				icped[c] = polishOn(cand, vk, model, config, Stage::kIcp, slot);
+				icped[c] = polishOn(cand, vk, model, config, Stage::kIcp, slot, config.icpConfig);
 			polished[c] = icped[c].valid ? icped[c] : cand;
 		});
 		for (size_t c = c0; c < c0 + n; ++c) {
@@ -1173,7 +1173,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		last.iterations = config.finalIcpIterations;
 		last.maxDistanceMm = last.minDistanceMm;
 		const int64_t icpStart = timer_.last();
-		const Hypothesis converged = polishOn(best, vk, model, config, Stage::kIcp, 0, &last);
+		const Hypothesis converged = polishOn(best, vk, model, config, Stage::kIcp, 0, last);
 		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart);
 		if (converged.valid) {
 			report(converged.iteration, "icp_final", 0, converged.pose, converged.score, 0);

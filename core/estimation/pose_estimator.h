@@ -295,21 +295,21 @@ private:
 	// ICP on the crop cut to h's depth range, then the score: the polished
 	// hypothesis, or an invalid one when ICP could not run. The time before
 	// it is charged to `stage`, the ICP and its score to kIcp.
-	// `icp` replaces config.icpConfig when given (the final polish).
+	// `icp`: config.icpConfig, or the winner's last polish's gates.
 	Hypothesis polishIcp(const Hypothesis &h, const CameraIntrinsics &K, const ObjectModel &model,
-			     const EstimatorConfig &config, Stage stage, const IcpConfig *icp = nullptr);
+			     const EstimatorConfig &config, Stage stage, const IcpConfig &icp);
 	// The same on a pool thread's slot (its own mask, cloud and render),
 	// without the clock: the caller charges the round, and the clock is
 	// read by the calling thread alone.
 	Hypothesis polishIcpIn(const Hypothesis &h, const CameraIntrinsics &K, const ObjectModel &model,
-			       const EstimatorConfig &config, int slot, const IcpConfig *icp = nullptr);
+			       const EstimatorConfig &config, int slot, const IcpConfig &icp);
 	// polishIcp() on one thread, polishIcpIn() on several.
 	Hypothesis polishOn(const Hypothesis &h, const CameraIntrinsics &K, const ObjectModel &model,
-			    const EstimatorConfig &config, Stage stage, int slot, const IcpConfig *icp = nullptr);
+			    const EstimatorConfig &config, Stage stage, int slot, const IcpConfig &icp);
 	// Their shared tail: ICP from the cloud on the slot's renderer, then the score.
 	Hypothesis icpAndScore(const Hypothesis &h, std::span<const CloudPoint> cloud, const CameraIntrinsics &K,
 			       const ObjectModel &model, const EstimatorConfig &config, int slot,
-			       const IcpConfig *icp = nullptr);
+			       const IcpConfig &icp);
 	// The hypotheses the polish runs on, into out; returns their count.
 	size_t polishCandidates(const EstimatorConfig &config, double diameter,
 				const Hypothesis (&forestBest)[2], std::span<Hypothesis> out) const;
