@@ -276,7 +276,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	EstimateSettings s;
 	if (path.empty())
 		return s;
-	auto parsed = openConfig(path, {"refinement", "votes", "score", "icp", "search", "view_search", "half_turns", "render_mesh", "budget", "limits"});
+	auto parsed = openConfig(path, {"refinement", "votes", "score", "icp", "search", "view_search", "half_turns", "confidence", "render_mesh", "budget", "limits"});
 	if (!parsed)
 		return parsed.error();
 	const toml::table &root = *parsed;
@@ -367,6 +367,11 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	turns.get("inlier_pivot", e.halfTurns.inlierPivot);
 	IHF_SECTION(turns);
 
+	TableReader conf(root["confidence"].as_table(), file, "confidence");
+	conf.get("distinct_share", e.confidence.distinctShare);
+	conf.get("full_margin", e.confidence.fullMargin);
+	IHF_SECTION(conf);
+
 	TableReader render(root["render_mesh"].as_table(), file, "render_mesh");
 	render.get("max_error_mm", s.renderMeshErrorMm);
 	IHF_SECTION(render);
@@ -392,6 +397,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	lim.get("max_modes", s.limits.maxModes);
 	lim.get("max_mode_seeds", s.limits.maxModeSeeds);
 	lim.get("max_candidates", s.limits.maxCandidates);
+	lim.get("max_rivals", s.limits.maxRivals);
 	lim.get("threads", s.limits.threads);
 	IHF_SECTION(lim);
 
@@ -446,6 +452,10 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.halfTurns.candidates >= 0 && e.halfTurns.candidates <= 4, "half_turns.candidates"),
 			  inRange(e.halfTurns.axes >= 0 && e.halfTurns.axes <= 1024, "half_turns.axes"),
 			  inRange(e.halfTurns.keep >= 1 && e.halfTurns.keep <= 4, "half_turns.keep"),
+			  inRange(e.confidence.distinctShare > 0 && e.confidence.distinctShare <= 1,
+				  "confidence.distinct_share"),
+			  inRange(e.confidence.fullMargin >= 0 && e.confidence.fullMargin <= 1, "confidence.full_margin"),
+			  inRange(s.limits.maxRivals >= 0, "limits.max_rivals"),
 			  inRange(s.renderMeshErrorMm >= 0 && s.renderMeshErrorMm <= 20, "render_mesh.max_error_mm"),
 			  inRange(e.frameBudgetMs >= 0, "budget.frame_ms"),
 			  inRange(e.budgetIterations >= -1, "budget.max_iterations"),

@@ -88,7 +88,8 @@ bool PoseEstimator::carvePersistent(A &arena)
 	       arenaTake(arena, windowHist_, size_t{1024}) && arenaTake(arena, windows_, size_t{8}) &&
 	       arenaTake(arena, viewHeaps_, viewSearchHeapSize(WorkerPool::resolve(l.threads))) &&
 	       arenaTake(arena, viewFine_, size_t{kMaxCoarseKeep}) &&
-	       arenaTake(arena, kept_, count(std::max(1, l.maxCandidates)));
+	       arenaTake(arena, kept_, count(std::max(1, l.maxCandidates))) &&
+	       arenaTake(arena, rivalStore_, count(l.maxRivals));
 }
 
 template<typename A>
@@ -133,6 +134,7 @@ PoseEstimator::PoseEstimator(const EstimatorLimits &limits, const Clock *clock)
 		 renderer_.reserve(limits.maxMeshVertices, arena_).ok() && carvePersistent(arena_);
 	for (int t = 1; t < workers_.threads() && valid_; ++t)
 		valid_ = moreRenderers_[static_cast<size_t>(t - 1)].reserve(limits.maxMeshVertices, arena_).ok();
+	rivals_ = RivalPoses(rivalStore_);
 	persistentBytes_ = arena_.used();
 }
 
@@ -240,8 +242,9 @@ EstimatorStats PoseEstimator::stats() const
 }
 
 void PoseEstimator::report(int iteration, const char *stage, int rank, const Pose &virtualPose,
-			   const HypothesisScore &s, float density) const
+			   const HypothesisScore &s, float density)
 {
+	rivals_.add(virtualPose, s.score);
 	if (!observer_)
 		return;
 	HypothesisEvent e;
@@ -1008,6 +1011,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 
 	cropRotation_ = crop->rotation;
 	keptCount_ = 0;
+	rivals_.clear();
 	modeCfg.rotationModesPerCentre = std::max(1, config.rotationModes);
 	modeCfg.maxSeeds = static_cast<int>(seeds_.size());
 	const size_t modeSlots = std::min(modes_.size(),
@@ -1189,7 +1193,12 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	out.pose.R = crop->rotation * best.pose.R;
 	out.pose.t = crop->rotation * best.pose.t;
 	out.score = best.score;
-	out.confidence = best.score.score;
+	const double distinctMm = config.confidence.distinctShare * params.diameter;
+	const float rival = rivals_.bestDistinct(best.pose, model.mesh().vertices,
+						 boundingBox(model.mesh()).centre().cast<double>(), params.symmetric,
+						 distinctMm);
+	out.margin = std::max(0.0f, best.score.score - rival);
+	out.confidence = poseConfidence(best.score.score, out.margin, config.confidence);
 	return out;
 }
 

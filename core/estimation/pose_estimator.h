@@ -40,6 +40,7 @@
 #include "core/estimation/estimator_stats.h"
 #include "core/estimation/hypothesis_score.h"
 #include "core/estimation/icp_refiner.h"
+#include "core/estimation/rival_poses.h"
 #include "core/features/cloud_point.h"
 #include "core/features/part_extractor.h"
 #include "core/features/unit_cube_frame.h"
@@ -100,6 +101,9 @@ struct EstimatorConfig {
 	// the model's centre, scored, and the best turns polished too. Not in
 	// the paper.
 	HalfTurnConfig halfTurns;
+	// The pose's confidence: its score, less when a distinct rival scored
+	// nearly as well (rival_poses.h).
+	ConfidenceConfig confidence;
 	ScoreConfig score;
 	int minValidPixels = 60;
 	// Refinement normalises with the unit cube of the whole rendered
@@ -142,6 +146,7 @@ struct EstimatorLimits {
 	int maxModes = 32;           // vote modes per iteration (translation x rotation)
 	int maxModeSeeds = 64;
 	int maxCandidates = 16;      // distinct hypotheses kept over the iterations
+	int maxRivals = 256;         // scored hypotheses kept for the confidence's margin (the best)
 	int threads = 1;             // threads of a box's searches, the caller included (0: one per core)
 };
 
@@ -177,7 +182,8 @@ struct PoseEstimate {
 	bool found = false;
 	const char *reason = ""; // why no pose, when !found
 	Pose pose;               // model -> real camera
-	float confidence = 0;
+	float confidence = 0;    // score.score scaled by the margin (rival_poses.h)
+	float margin = 0;        // score.score less the best distinct rival's
 	int iterationsDone = 0;
 	int bestIteration = -1;
 	int parts = 0;  // of the last iteration
@@ -315,8 +321,10 @@ private:
 				const Hypothesis (&forestBest)[2], std::span<Hypothesis> out) const;
 	// The first `max` distinct translations (0.1 diameter apart) of kept_.
 	int keptCentres(double diameter, int max, Eigen::Vector3d *centres) const;
+	// Every scored hypothesis passes here: a rival for the confidence, and
+	// an event for the observer.
 	void report(int iteration, const char *stage, int rank, const Pose &virtualPose,
-		    const HypothesisScore &s, float density) const;
+		    const HypothesisScore &s, float density);
 	HypothesisScore score(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model,
 			      const EstimatorConfig &config, int slot = 0);
 	// Scores poses[i] into scores[i], spread over the pool's threads.
@@ -385,6 +393,8 @@ private:
 	std::span<ViewFineResult> viewFine_;
 	std::span<Hypothesis> kept_; // best distinct hypotheses, by score
 	size_t keptCount_ = 0;
+	std::span<RivalPose> rivalStore_;
+	RivalPoses rivals_; // every scored hypothesis of the box (the best maxRivals)
 	Eigen::Matrix3d cropRotation_ = Eigen::Matrix3d::Identity();
 	OpenSides openSides_; // of the current box: sides on the frame border
 	EstimateObserver *observer_ = nullptr;

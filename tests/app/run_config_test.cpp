@@ -170,6 +170,9 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.halfTurns.keep, b.halfTurns.keep);
 	EXPECT_EQ(a.halfTurns.align, b.halfTurns.align);
 	EXPECT_EQ(a.halfTurns.inlierPivot, b.halfTurns.inlierPivot);
+	EXPECT_EQ(a.confidence.distinctShare, b.confidence.distinctShare);
+	EXPECT_EQ(a.confidence.fullMargin, b.confidence.fullMargin);
+	EXPECT_EQ(none->limits.maxRivals, bundled->limits.maxRivals);
 	EXPECT_EQ(none->renderMeshErrorMm, bundled->renderMeshErrorMm);
 	EXPECT_EQ(none->viewTemplates.viewpoints, bundled->viewTemplates.viewpoints);
 	EXPECT_EQ(none->viewTemplates.budgetViewpoints, bundled->viewTemplates.budgetViewpoints);
@@ -204,6 +207,9 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[render_mesh]\nmax_error_mm = -1\n", "render_mesh.max_error_mm"},
 		     {"[score]\nresidual_weight = 1.5\n", "score.residual_weight"},
 		     {"[icp]\nfinal_iterations = -1\n", "icp.final_iterations"},
+		     {"[confidence]\ndistinct_share = 0\n", "confidence.distinct_share"},
+		     {"[confidence]\nfull_margin = -0.1\n", "confidence.full_margin"},
+		     {"[limits]\nmax_rivals = -1\n", "limits.max_rivals"},
 		     {"[votes]\nrotation_modes = 0\n", "votes.rotation_modes"},
 		     {"[votes]\nmax_shift_votes = -1\n", "votes.max_shift_votes"},
 		     {"[limits]\nthreads = 9\n", "limits.threads"},

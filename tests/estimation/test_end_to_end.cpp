@@ -100,6 +100,8 @@ protected:
 		ASSERT_TRUE(renderer.render(model_->mesh(), pose, kKinect, depth.view()).ok());
 	}
 
+	static PixelBox clutteredScene(const Pose &gt, DepthImageMm &depth);
+
 	static Trained *trained_;
 	static ObjectModel *model_;
 	static std::filesystem::path *dir_;
@@ -146,6 +148,25 @@ TEST_F(EndToEnd, RecoversAKnownPoseOnACleanRender)
 	EXPECT_GT(e.confidence, 0.5f);
 }
 
+// The object at gt, a second one beside it, turned, and a wall behind both
+// inside the box (clutter the registration votes on); returns the box.
+PixelBox EndToEnd::clutteredScene(const Pose &gt, DepthImageMm &depth)
+{
+	render(gt, depth);
+	const PixelBox box = boxAround(depth);
+	DepthImageMm second(640, 480, 0.0f);
+	render(viewAt(25, gt.t + Eigen::Vector3d(40, 10, 0)), second);
+	for (int y = box.y; y < box.y + box.h; ++y)
+		for (int x = box.x; x < box.x + box.w; ++x) {
+			const float z = second.at(x, y);
+			if (z > 0 && (depth.at(x, y) <= 0 || z < depth.at(x, y)))
+				depth.at(x, y) = z;
+			if (depth.at(x, y) <= 0)
+				depth.at(x, y) = static_cast<float>(gt.t.z() + 60.0);
+		}
+	return box;
+}
+
 // Refinement adds its modes to the ranking of the hypotheses to polish; the
 // forest's own bests (the registration's and the last iteration's) are
 // polished even when they rank below the polish's count, so refinement
@@ -158,20 +179,7 @@ TEST_F(EndToEnd, RefinementPolishesTheForestsOwnBests)
 	} events;
 	const Pose gt = viewAt(5, Eigen::Vector3d(-30, 20, 780));
 	DepthImageMm depth(640, 480, 0.0f);
-	render(gt, depth);
-	const PixelBox box = boxAround(depth);
-	// A second ape beside it, turned, and a wall behind both: clutter
-	// the registration votes on.
-	DepthImageMm second(640, 480, 0.0f);
-	render(viewAt(25, gt.t + Eigen::Vector3d(40, 10, 0)), second);
-	for (int y = box.y; y < box.y + box.h; ++y)
-		for (int x = box.x; x < box.x + box.w; ++x) {
-			const float z = second.at(x, y);
-			if (z > 0 && (depth.at(x, y) <= 0 || z < depth.at(x, y)))
-				depth.at(x, y) = z;
-			if (depth.at(x, y) <= 0)
-				depth.at(x, y) = static_cast<float>(gt.t.z() + 60.0);
-		}
+	const PixelBox box = clutteredScene(gt, depth);
 
 	PoseEstimator estimator;
 	estimator.setObserver(&events);
@@ -226,6 +234,50 @@ TEST_F(EndToEnd, RefinementPolishesTheForestsOwnBests)
 	EXPECT_EQ(std::count_if(events.all.begin(), events.all.end(),
 				[](const HypothesisEvent &ev) { return std::string_view(ev.stage) == "icp"; }),
 		  1);
+}
+
+// The confidence's margin is the winner's score less the best score of any
+// hypothesis the estimator reported that is a different pose (its model
+// points, sampled as RivalPoses samples them, 0.1 diameter away on
+// average): here the second object beside the first.
+TEST_F(EndToEnd, TheMarginIsTheGapToTheBestDistinctHypothesis)
+{
+	struct Events final : EstimateObserver {
+		std::vector<HypothesisEvent> all;
+		void onHypothesis(const HypothesisEvent &e) override { all.push_back(e); }
+	} events;
+	const Pose gt = viewAt(5, Eigen::Vector3d(-30, 20, 780));
+	DepthImageMm depth(640, 480, 0.0f);
+	const PixelBox box = clutteredScene(gt, depth);
+	PoseEstimator estimator;
+	estimator.setObserver(&events);
+	EstimatorConfig cfg;
+	cfg.iterations = 2;
+	PoseEstimate e = estimator.estimate(depth.view(), kKinect, box, *model_, cfg);
+	ASSERT_TRUE(e.found) << e.reason;
+
+	const std::vector<Eigen::Vector3f> &v = model_->mesh().vertices;
+	const size_t stride = (v.size() + RivalPoses::kMaxPoints - 1) / RivalPoses::kMaxPoints;
+	const double distinctMm = cfg.confidence.distinctShare * trained_->params.diameter;
+	float rival = 0;
+	for (const HypothesisEvent &ev : events.all) {
+		double sum = 0;
+		int n = 0;
+		for (size_t i = 0; i < v.size(); i += stride, ++n)
+			sum += (ev.pose.apply(v[i].cast<double>()) - e.pose.apply(v[i].cast<double>())).norm();
+		if (sum / n > distinctMm)
+			rival = std::max(rival, ev.score.score);
+	}
+	EXPECT_GT(rival, 0.0f); // the second object, at least
+	EXPECT_NEAR(e.margin, e.score.score - rival, 1e-5f);
+	EXPECT_FLOAT_EQ(e.confidence, poseConfidence(e.score.score, e.margin, cfg.confidence));
+	EXPECT_LE(e.confidence, e.score.score);
+
+	// Off: the score alone.
+	cfg.confidence.fullMargin = 0.0f;
+	PoseEstimate off = estimator.estimate(depth.view(), kKinect, box, *model_, cfg);
+	EXPECT_FLOAT_EQ(off.confidence, off.score.score);
+	EXPECT_FLOAT_EQ(off.margin, e.margin); // measured either way
 }
 
 // The winner's last polish ([icp] final_iterations): more ICP at the
