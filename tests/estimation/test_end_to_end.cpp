@@ -167,16 +167,19 @@ PixelBox EndToEnd::clutteredScene(const Pose &gt, DepthImageMm &depth)
 	return box;
 }
 
+// Every hypothesis an estimate reports, in order.
+struct RecordedEvents final : EstimateObserver {
+	std::vector<HypothesisEvent> all;
+	void onHypothesis(const HypothesisEvent &e) override { all.push_back(e); }
+};
+
 // Refinement adds its modes to the ranking of the hypotheses to polish; the
 // forest's own bests (the registration's and the last iteration's) are
 // polished even when they rank below the polish's count, so refinement
 // never drops a mode the registration alone would have polished.
 TEST_F(EndToEnd, RefinementPolishesTheForestsOwnBests)
 {
-	struct Events final : EstimateObserver {
-		std::vector<HypothesisEvent> all;
-		void onHypothesis(const HypothesisEvent &e) override { all.push_back(e); }
-	} events;
+	RecordedEvents events;
 	const Pose gt = viewAt(5, Eigen::Vector3d(-30, 20, 780));
 	DepthImageMm depth(640, 480, 0.0f);
 	const PixelBox box = clutteredScene(gt, depth);
@@ -242,17 +245,13 @@ TEST_F(EndToEnd, RefinementPolishesTheForestsOwnBests)
 // average): here the second object beside the first.
 TEST_F(EndToEnd, TheMarginIsTheGapToTheBestDistinctHypothesis)
 {
-	struct Events final : EstimateObserver {
-		std::vector<HypothesisEvent> all;
-		void onHypothesis(const HypothesisEvent &e) override { all.push_back(e); }
-	} events;
-	const Pose gt = viewAt(5, Eigen::Vector3d(-30, 20, 780));
+	RecordedEvents events;
 	DepthImageMm depth(640, 480, 0.0f);
-	const PixelBox box = clutteredScene(gt, depth);
-	PoseEstimator estimator;
-	estimator.setObserver(&events);
+	const PixelBox box = clutteredScene(viewAt(5, Eigen::Vector3d(-30, 20, 780)), depth);
 	EstimatorConfig cfg;
 	cfg.iterations = 2;
+	PoseEstimator estimator;
+	estimator.setObserver(&events);
 	PoseEstimate e = estimator.estimate(depth.view(), kKinect, box, *model_, cfg);
 	ASSERT_TRUE(e.found) << e.reason;
 
@@ -287,10 +286,7 @@ TEST_F(EndToEnd, TheMarginIsTheGapToTheBestDistinctHypothesis)
 // last polish brings it nearer the truth.
 TEST_F(EndToEnd, TheWinnersLastPolishConverges)
 {
-	struct Events final : EstimateObserver {
-		std::vector<HypothesisEvent> all;
-		void onHypothesis(const HypothesisEvent &e) override { all.push_back(e); }
-	} events;
+	RecordedEvents events;
 	// Between training views: the forest's modes are some degrees off.
 	Pose gt = viewAt(12, Eigen::Vector3d(25, 15, 800));
 	gt.R = Eigen::AngleAxisd(7.0 * M_PI / 180.0, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix() * gt.R;
