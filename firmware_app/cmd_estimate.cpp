@@ -42,7 +42,8 @@ struct EstimateOptions {
 
 // `--trace`: every scored hypothesis as a JSON line, for diagnosing which
 // stage loses a pose. Ground-truth poses of the box's object, when the
-// dataset has them, are scored the same way (stage "given").
+// dataset has them, are scored the same way (stage "given"); the box's
+// answer comes last (stage "result").
 class TraceWriter : public EstimateObserver
 {
 public:
@@ -92,6 +93,21 @@ public:
 			     e.pose.t.z(), e.score.score, e.score.depthScore, e.score.boxFactor,
 			     e.score.inliers, e.score.outliers, e.score.occluded, e.score.rendered,
 			     e.voteDensity);
+	}
+
+	// The box's answer, after its hypotheses: the winner's pose and score,
+	// and the confidence and margin the CSV's score comes from.
+	void onResult(const PoseEstimate &e)
+	{
+		const Eigen::Matrix3d &R = e.pose.R;
+		std::fprintf(f_,
+			     "{\"scene_id\":%d,\"im_id\":%d,\"obj_id\":%d,\"stage\":\"result\",\"found\":%s,"
+			     "\"reason\":\"%s\",\"R\":[%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f],"
+			     "\"t\":[%.3f,%.3f,%.3f],\"score\":%.4f,\"confidence\":%.4f,\"margin\":%.4f,"
+			     "\"iterations\":%d,\"best_iteration\":%d}\n",
+			     scene_, image_, obj_, e.found ? "true" : "false", e.reason, R(0, 0), R(0, 1), R(0, 2),
+			     R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), e.pose.t.x(), e.pose.t.y(),
+			     e.pose.t.z(), e.score.score, e.confidence, e.margin, e.iterationsDone, e.bestIteration);
 	}
 
 private:
@@ -271,6 +287,8 @@ int runEstimate(const EstimateOptions &o)
 			boxTimes.push_back(dt);
 			imageTime += dt;
 			++done;
+			if (trace)
+				trace->onResult(e);
 			if (!e.found) {
 				++noPose;
 				if (!o.quiet)

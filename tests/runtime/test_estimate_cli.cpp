@@ -3,8 +3,11 @@
 // arena use on stderr and with --stats-json; the [budget] key of the
 // configuration is read and checked.
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -79,6 +82,62 @@ TEST_F(EstimateCli, ReportsStagesBudgetAndArena)
 	EXPECT_GT(used, static_cast<size_t>(j["arena"]["persistent_bytes"]));
 	EXPECT_LE(used, capacity);
 	EXPECT_GT(j["limits_used"]["votes"][0].get<int>(), 0);
+}
+
+// --trace: per box the truth's score ("given"), every scored hypothesis,
+// then the result, whose pose is the best-scoring hypothesis and whose
+// confidence is the CSV's score.
+TEST_F(EstimateCli, TheTraceEndsEachBoxWithItsResult)
+{
+	const auto trace = *dir_ / "trace.jsonl";
+	auto r = test::runIhf(args("--iterations 1 --budget-ms 0 --threads 1 --trace '" + trace.string() + "'"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	std::ifstream in(trace);
+	ASSERT_TRUE(in.good());
+	std::vector<nlohmann::json> results;
+	int givens = 0, hypotheses = 0;
+	double best = -1;
+	for (std::string line; std::getline(in, line);) {
+		const auto j = nlohmann::json::parse(line);
+		const std::string stage = j["stage"];
+		if (stage == "votes")
+			continue;
+		if (stage == "given") {
+			++givens;
+		} else if (stage == "result") {
+			EXPECT_GT(hypotheses, 0);
+			EXPECT_NEAR(j["score"].get<double>(), best, 1e-4) << line;
+			results.push_back(j);
+			hypotheses = 0;
+			best = -1;
+		} else {
+			++hypotheses;
+			best = std::max(best, j["score"].get<double>());
+		}
+	}
+	EXPECT_EQ(hypotheses, 0); // nothing after the last result
+	EXPECT_EQ(givens, 2);     // the duck's truth, once per box
+	ASSERT_EQ(results.size(), 2u);
+
+	std::ifstream csv(*dir_ / "r.csv");
+	std::string header, row;
+	std::getline(csv, header);
+	for (const nlohmann::json &j : results) {
+		ASSERT_TRUE(std::getline(csv, row));
+		// scene_id,im_id,obj_id,score,R,t,time
+		std::vector<std::string> f;
+		for (size_t a = 0, b; a <= row.size(); a = b + 1) {
+			b = row.find(',', a);
+			if (b == std::string::npos)
+				b = row.size();
+			f.push_back(row.substr(a, b - a));
+		}
+		ASSERT_GE(f.size(), 4u) << row;
+		EXPECT_TRUE(j["found"].get<bool>());
+		EXPECT_NEAR(std::stod(f[3]), j["confidence"].get<double>(), 1e-4) << row;
+		EXPECT_LE(j["confidence"].get<double>(), j["score"].get<double>() + 1e-6);
+		EXPECT_GE(j["margin"].get<double>(), 0.0);
+	}
 }
 
 TEST_F(EstimateCli, BudgetFromTheConfiguration)
