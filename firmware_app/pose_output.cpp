@@ -159,6 +159,10 @@ Status PoseOutput::writePose(const PoseLine &p)
 	}
 	b.text("],\"confidence\":");
 	b.number(static_cast<double>(e.confidence));
+	b.text(",\"score\":");
+	b.number(static_cast<double>(e.score.score));
+	b.text(",\"margin\":");
+	b.number(static_cast<double>(e.margin));
 	b.text(",\"iterations\":");
 	b.number(e.iterationsDone);
 	b.text(",\"best_iteration\":");

@@ -19,9 +19,11 @@ namespace ihf::app {
 
 class BoxFeed;
 
-// One pose as written: {"frame","obj_id","R","t","confidence","iterations",
-// "best_iteration","icp","latency_ms","estimate_ms"}; numbers in their
-// shortest exact form.
+// One pose as written: {"frame","obj_id","R","t","confidence","score",
+// "margin","iterations","best_iteration","icp","latency_ms","estimate_ms"};
+// numbers in their shortest exact form. confidence = score scaled by the
+// margin over the best different pose (rival_poses.h): a low confidence
+// with a high score means two poses fit alike, with a low score a poor fit.
 struct PoseLine {
 	uint64_t frame = 0;
 	int objId = 0;

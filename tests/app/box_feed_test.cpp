@@ -147,6 +147,8 @@ TEST(PoseOutput, PoseLinesCarryExactNumbersAndFilesAppearWhenFinished)
 	e.pose.R = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
 	e.pose.t = Eigen::Vector3d(-12.345678901234, 0.1, 987.654321);
 	e.confidence = 0.8125f;
+	e.score.score = 0.875f;
+	e.margin = 0.09375f;
 	e.iterationsDone = 5;
 	e.bestIteration = 3;
 	PoseLine line{42, 20, &e, 12.3456, 7.0};
@@ -166,6 +168,8 @@ TEST(PoseOutput, PoseLinesCarryExactNumbersAndFilesAppearWhenFinished)
 		EXPECT_EQ(j["R"][i].get<double>(), e.pose.R(i / 3, i % 3)); // bit-exact round trip
 	EXPECT_EQ(j["t"][0].get<double>(), -12.345678901234);
 	EXPECT_EQ(j["confidence"].get<double>(), 0.8125);
+	EXPECT_EQ(j["score"].get<double>(), 0.875);
+	EXPECT_EQ(j["margin"].get<double>(), 0.09375);
 	EXPECT_EQ(j["iterations"], 5);
 	EXPECT_EQ(j["best_iteration"], 3);
 	EXPECT_EQ(j["latency_ms"].get<double>(), 12.346);
