@@ -82,35 +82,39 @@ public:
 	}
 	void onHypothesis(const HypothesisEvent &e) override
 	{
-		const Eigen::Matrix3d &R = e.pose.R;
+		std::fprintf(f_, "{\"scene_id\":%d,\"im_id\":%d,\"obj_id\":%d,\"iteration\":%d,\"stage\":\"%s\",\"rank\":%d,",
+			     scene_, image_, obj_, e.iteration, e.stage, e.rank);
+		writePose(e.pose);
 		std::fprintf(f_,
-			     "{\"scene_id\":%d,\"im_id\":%d,\"obj_id\":%d,\"iteration\":%d,\"stage\":\"%s\","
-			     "\"rank\":%d,\"R\":[%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f],"
-			     "\"t\":[%.3f,%.3f,%.3f],\"score\":%.4f,\"depth_score\":%.4f,\"box\":%.4f,"
-			     "\"inliers\":%d,\"outliers\":%d,\"occluded\":%d,\"rendered\":%d,\"density\":%.4f}\n",
-			     scene_, image_, obj_, e.iteration, e.stage, e.rank, R(0, 0), R(0, 1), R(0, 2),
-			     R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), e.pose.t.x(), e.pose.t.y(),
-			     e.pose.t.z(), e.score.score, e.score.depthScore, e.score.boxFactor,
-			     e.score.inliers, e.score.outliers, e.score.occluded, e.score.rendered,
-			     e.voteDensity);
+			     ",\"score\":%.4f,\"depth_score\":%.4f,\"box\":%.4f,\"inliers\":%d,\"outliers\":%d,"
+			     "\"occluded\":%d,\"rendered\":%d,\"density\":%.4f}\n",
+			     e.score.score, e.score.depthScore, e.score.boxFactor, e.score.inliers, e.score.outliers,
+			     e.score.occluded, e.score.rendered, e.voteDensity);
 	}
 
 	// The box's answer, after its hypotheses: the winner's pose and score,
 	// and the confidence and margin the CSV's score comes from.
 	void onResult(const PoseEstimate &e)
 	{
-		const Eigen::Matrix3d &R = e.pose.R;
 		std::fprintf(f_,
 			     "{\"scene_id\":%d,\"im_id\":%d,\"obj_id\":%d,\"stage\":\"result\",\"found\":%s,"
-			     "\"reason\":\"%s\",\"R\":[%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f],"
-			     "\"t\":[%.3f,%.3f,%.3f],\"score\":%.4f,\"confidence\":%.4f,\"margin\":%.4f,"
-			     "\"iterations\":%d,\"best_iteration\":%d}\n",
-			     scene_, image_, obj_, e.found ? "true" : "false", e.reason, R(0, 0), R(0, 1), R(0, 2),
-			     R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), e.pose.t.x(), e.pose.t.y(),
-			     e.pose.t.z(), e.score.score, e.confidence, e.margin, e.iterationsDone, e.bestIteration);
+			     "\"reason\":\"%s\",",
+			     scene_, image_, obj_, e.found ? "true" : "false", e.reason);
+		writePose(e.pose);
+		std::fprintf(f_, ",\"score\":%.4f,\"confidence\":%.4f,\"margin\":%.4f,\"iterations\":%d,\"best_iteration\":%d}\n",
+			     e.score.score, e.confidence, e.margin, e.iterationsDone, e.bestIteration);
 	}
 
 private:
+	// "R":[9 numbers],"t":[3 numbers] of a trace line.
+	void writePose(const Pose &p)
+	{
+		const Eigen::Matrix3d &R = p.R;
+		std::fprintf(f_, "\"R\":[%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f],\"t\":[%.3f,%.3f,%.3f]", R(0, 0),
+			     R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), p.t.x(), p.t.y(),
+			     p.t.z());
+	}
+
 	std::FILE *f_;
 	int scene_ = 0, image_ = 0, obj_ = 0;
 	double diameter_ = 0;

@@ -520,13 +520,12 @@ std::optional<Eigen::Vector3d> PoseEstimator::shownCentroid(const Pose &pose, co
 PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics &K, const ObjectModel &model,
 							 const EstimatorConfig &config,
 							 std::span<const Hypothesis> polished,
-							 const Hypothesis &best)
+							 const Hypothesis &best, const Eigen::Vector3d &centre)
 {
 	constexpr int kMaxSources = 4, kMaxKeep = 4;
 	constexpr double kSameRotation = 20.0 * M_PI / 180.0;
 	const HalfTurnConfig &cfg = config.halfTurns;
 	const double diameter = model.params().diameter;
-	const Eigen::Vector3d centre = boundingBox(model.mesh()).centre().cast<double>();
 	// The best first, then the best-scored polished ones unlike those taken.
 	Hypothesis sources[kMaxSources];
 	int ns = 0;
@@ -1164,9 +1163,13 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		// under the cloud stage on one thread, under ICP on more).
 		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart);
 	}
+	// The model's box centre: the half-turns' pivot, and what a symmetric
+	// object's rivals are compared by.
+	const Eigen::Vector3d centre = boundingBox(model.mesh()).centre().cast<double>();
 	if (halfTurnsEnabled(config.halfTurns)) {
 		const Hypothesis turned = searchHalfTurns(vk, model, config,
-							  std::span<const Hypothesis>(polished, polishedCount), best);
+							  std::span<const Hypothesis>(polished, polishedCount), best,
+							  centre);
 		if (turned.score.score > best.score.score) {
 			best = turned;
 			out.icpApplied = true;
@@ -1194,9 +1197,8 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	out.pose.t = crop->rotation * best.pose.t;
 	out.score = best.score;
 	const double distinctMm = config.confidence.distinctShare * params.diameter;
-	const float rival = rivals_.bestDistinct(best.pose, model.mesh().vertices,
-						 boundingBox(model.mesh()).centre().cast<double>(), params.symmetric,
-						 distinctMm);
+	const float rival =
+		rivals_.bestDistinct(best.pose, model.mesh().vertices, centre, params.symmetric, distinctMm);
 	out.margin = std::max(0.0f, best.score.score - rival);
 	out.confidence = poseConfidence(best.score.score, out.margin, config.confidence);
 	return out;

@@ -283,11 +283,12 @@ private:
 				const EstimatorConfig &config);
 	void searchViewTemplates(const CameraIntrinsics &K, const ObjectModel &model,
 				 const EstimatorConfig &config);
-	// Half-turns of the best distinct polished hypotheses (half_turns.h);
-	// returns the best found, or `best` when none scores higher.
+	// Half-turns of the best distinct polished hypotheses (half_turns.h)
+	// about the model's box centre; returns the best found, or `best` when
+	// none scores higher.
 	Hypothesis searchHalfTurns(const CameraIntrinsics &K, const ObjectModel &model,
 				   const EstimatorConfig &config, std::span<const Hypothesis> polished,
-				   const Hypothesis &best);
+				   const Hypothesis &best, const Eigen::Vector3d &centre);
 	// The pose rendered with the model's render mesh into renderView_ (cleared
 	// first); false if the render failed.
 	// slot: the renderer and render buffer of one pool thread (0: the
