@@ -33,9 +33,10 @@ struct Tally {
 class SparseScorer
 {
 public:
-	SparseScorer(const ViewSearchConfig &config, ImageView<const float> observed, const CameraIntrinsics &K)
+	SparseScorer(const ViewSearchConfig &config, ImageView<const float> observed, const CameraIntrinsics &K,
+		     BoxAxes box)
 		: cfg_(config), obs_(observed), fx_(static_cast<float>(K.fx)), fy_(static_cast<float>(K.fy)),
-		  cx_(static_cast<float>(K.cx)), cy_(static_cast<float>(K.cy))
+		  cx_(static_cast<float>(K.cx)), cy_(static_cast<float>(K.cy)), box_(box)
 	{
 	}
 
@@ -57,7 +58,11 @@ public:
 			const int u = static_cast<int>(std::floor(fx_ * x / z + cx_ + 0.5f));
 			const int w = static_cast<int>(std::floor(fy_ * y / z + cy_ + 0.5f));
 			if (u < 0 || w < 0 || u >= obs_.width || w >= obs_.height) {
-				++k.outside;
+				// Beyond a side the frame clipped the point is unseen:
+				// the object may go on there (a border box).
+				if ((u < 0 && !box_.openLeft) || (u >= obs_.width && !box_.openRight) ||
+				    (w < 0 && !box_.openTop) || (w >= obs_.height && !box_.openBottom))
+					++k.outside;
 				continue;
 			}
 			const float o = obs_.at(u, w);
@@ -86,7 +91,8 @@ public:
 	}
 
 	// Translation at t's depth that puts the centre of the points' projected
-	// extent on the optical axis (axes not trusted keep t's).
+	// extent on the optical axis; on an axis the frame clipped on one side,
+	// the extent's edge on the box's other side (axes with neither keep t's).
 	Eigen::Vector3f centred(const TurnedView &v, const Eigen::Vector3f &t, BoxAxes axes) const
 	{
 		float u0 = 1e30f, u1 = -1e30f, w0 = 1e30f, w1 = -1e30f;
@@ -103,12 +109,20 @@ public:
 			w1 = std::max(w1, w);
 		}
 		// The box centre is on the optical axis (virtual_crop.h): the
-		// extent's centre offset from it, as a lateral move at t's depth.
+		// extent's offset from it, as a lateral move at t's depth. The
+		// window's sides, in the same units, are at -c - 0.5 and size - c - 0.5.
+		auto offset = [](float lo, float hi, float c, int size, bool trusted, bool openLo, bool openHi) {
+			if (trusted)
+				return 0.5f * (lo + hi);
+			if (openLo && !openHi)
+				return hi - (static_cast<float>(size) - c - 0.5f);
+			if (openHi && !openLo)
+				return lo - (-c - 0.5f);
+			return 0.0f;
+		};
 		Eigen::Vector3f out = t;
-		if (axes.x)
-			out.x() -= 0.5f * (u0 + u1) * t.z() / fx_;
-		if (axes.y)
-			out.y() -= 0.5f * (w0 + w1) * t.z() / fy_;
+		out.x() -= offset(u0, u1, cx_, obs_.width, axes.x, axes.openLeft, axes.openRight) * t.z() / fx_;
+		out.y() -= offset(w0, w1, cy_, obs_.height, axes.y, axes.openTop, axes.openBottom) * t.z() / fy_;
 		return out;
 	}
 
@@ -164,6 +178,7 @@ private:
 	const ViewSearchConfig &cfg_;
 	ImageView<const float> obs_;
 	float fx_, fy_, cx_, cy_;
+	BoxAxes box_;
 };
 
 // Inserts p into the best-first list out[0, count) unless a proposal as
@@ -233,10 +248,11 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	if (total == 0 || out.empty() || !(anchorDepth > 0 || centre.z() > 1.0))
 		return 0;
 	const int n = std::min(templates.pointsPerView, kMaxViewPoints);
-	const SparseScorer scorer(config, observed, K);
+	const SparseScorer scorer(config, observed, K, box);
 	const Eigen::Vector3f centreF = centre.cast<float>();
 	const double distinct = config.distinctDeg * M_PI / 180.0;
-	const bool centring = config.boxCentre && (box.x || box.y);
+	const bool centring = config.boxCentre && (box.x || box.y || box.openLeft != box.openRight ||
+						   box.openTop != box.openBottom);
 	const int inplane = config.inplane;
 
 	// The view's points (already rotated by the view) turned in-plane.

@@ -93,12 +93,14 @@ inline ViewSearchConfig underBudget(ViewSearchConfig c)
 	return c;
 }
 
-// Which axes of the window (the given box) may centre a rotation: a side on
-// the frame border was clipped, so the box's centre on that axis is not the
-// object's.
+// What the window (the given box) says where a side of it was clipped by
+// the frame border: the box's centre on that axis is not the object's, so
+// the axis may not centre a rotation; and a model point beyond that side is
+// unseen (no pixel), not outside the box, so it costs the score nothing.
 struct BoxAxes {
 	bool x = true;
 	bool y = true;
+	bool openLeft = false, openTop = false, openRight = false, openBottom = false;
 };
 
 struct ViewProposal {

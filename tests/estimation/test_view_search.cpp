@@ -225,6 +225,61 @@ TEST_F(ViewSearchTest, BoxCentringRecoversALateralOffset)
 	EXPECT_GT(found, foundWithoutBox + 2);
 }
 
+// A box the frame clipped: the object's left third lies past the image's
+// left edge. The window is the clipped box, so its centre is not the
+// object's on x; the model's points past that edge are unseen, not outside
+// the box (else a pose pushed back in depth, smaller, fits the window
+// better), and the rotation is placed against the box's right side.
+TEST_F(ViewSearchTest, ABoxClippedByTheFrameFindsTheObjectPastItsEdge)
+{
+	std::mt19937_64 rng(29);
+	ViewSearchConfig cfg;
+	cfg.inplane = 24;
+	cfg.keep = 6;
+	int found = 0, foundAsClosed = 0;
+	const int trials = 16;
+	for (int i = 0; i < trials; ++i) {
+		std::vector<float> full;
+		const Pose truth = centredPose(rng, full);
+		int u0 = K_.width, u1 = -1, v0 = K_.height, v1 = -1;
+		for (int y = 0; y < K_.height; ++y)
+			for (int x = 0; x < K_.width; ++x)
+				if (full[static_cast<size_t>(y) * K_.width + x] < 1100) {
+					u0 = std::min(u0, x), u1 = std::max(u1, x);
+					v0 = std::min(v0, y), v1 = std::max(v1, y);
+				}
+		// The box: the extent 10 % larger, its left third cut off by the
+		// frame; rows centred on the principal point as the virtual crop's.
+		const int mx = (u1 - u0) / 20, my = (v1 - v0) / 20;
+		const int x0 = u0 + (u1 - u0) / 3, x1 = u1 + mx;
+		const int half = std::max(static_cast<int>(K_.cy) - v0, v1 - static_cast<int>(K_.cy)) + my;
+		const int y0 = static_cast<int>(K_.cy) - half, y1 = static_cast<int>(K_.cy) + half;
+		const int w = x1 - x0 + 1, h = y1 - y0 + 1;
+		std::vector<float> window(static_cast<size_t>(w) * h);
+		for (int y = 0; y < h; ++y)
+			for (int x = 0; x < w; ++x)
+				window[static_cast<size_t>(y) * w + x] = full[static_cast<size_t>(y + y0) * K_.width + x + x0];
+		CameraIntrinsics K = K_;
+		K.cx -= x0;
+		K.cy -= y0;
+		K.width = w;
+		K.height = h;
+		ImageView<const float> view(window.data(), w, h, w);
+		// The window's centre ray at the truth's depth + 20 mm.
+		const Eigen::Vector3d voted =
+			K.backProject(0.5 * (w - 1), 0.5 * (h - 1), truth.t.z() + 20);
+		ViewProposal top[6];
+		BoxAxes clipped{false, true};
+		clipped.openLeft = true;
+		found += near(top, searchViews(templates(), cfg, view, K, voted, top, clipped), truth, 15);
+		foundAsClosed += near(top, searchViews(templates(), cfg, view, K, voted, top, BoxAxes{false, true}), truth, 15);
+	}
+	RecordProperty("found", found);
+	RecordProperty("found_as_closed", foundAsClosed);
+	EXPECT_GE(found, trials * 7 / 10);
+	EXPECT_GT(found, foundAsClosed + 2);
+}
+
 TEST_F(ViewSearchTest, ProposalsAreDistinctAndBestFirst)
 {
 	std::mt19937_64 rng(3);
