@@ -22,8 +22,8 @@ if [ ! -f "$demo/bunny.rec" ] || [ ! -f "$demo/obj_000020.ihf" ] || [ ! -f "$dem
 fi
 # The device default is a 33 ms frame; the bunny is a large object: on two
 # x86 cores its four demo poses are within 1.1 deg of the truth from 40 ms
-# (two at ~11 deg at 33 ms; BENCHMARKS.md, session 14), so the demo gives it
-# 50 ms.
-"$ihf" run --config "$root/config/device.toml" --budget-ms 50 "$@"
+# on one machine, from 80 ms on another 1.6x slower (BENCHMARKS.md, sessions
+# 14 and 18), so the demo gives it 150 ms: room for a slower CPU.
+"$ihf" run --config "$root/config/device.toml" --budget-ms 150 "$@"
 echo "demo: poses of the bunny (model -> camera, mm) per frame; ground truth in" \
 	"$demo/scenes/test/000020/scene_gt.json" >&2
