@@ -78,6 +78,22 @@ protected:
 		return p;
 	}
 
+	// The object's pixels' extent in a render (nearer than the wall).
+	struct Extent {
+		int u0, u1, v0, v1;
+	};
+	Extent extent(const std::vector<float> &depth) const
+	{
+		Extent e{K_.width, -1, K_.height, -1};
+		for (int y = 0; y < K_.height; ++y)
+			for (int x = 0; x < K_.width; ++x)
+				if (depth[static_cast<size_t>(y) * K_.width + x] < 1100) {
+					e.u0 = std::min(e.u0, x), e.u1 = std::max(e.u1, x);
+					e.v0 = std::min(e.v0, y), e.v1 = std::max(e.v1, y);
+				}
+		return e;
+	}
+
 	// A random rotation at 900 mm whose image extent is centred on the
 	// optical axis, as in the virtual crop of an amodal box.
 	Pose centredPose(std::mt19937_64 &rng, std::vector<float> &depth) const
@@ -86,15 +102,9 @@ protected:
 		truth.t = Eigen::Vector3d(0, 0, 900);
 		for (int pass = 0; pass < 3; ++pass) {
 			depth = render(truth);
-			int u0 = K_.width, u1 = -1, v0 = K_.height, v1 = -1;
-			for (int y = 0; y < K_.height; ++y)
-				for (int x = 0; x < K_.width; ++x)
-					if (depth[static_cast<size_t>(y) * K_.width + x] < 1100) {
-						u0 = std::min(u0, x), u1 = std::max(u1, x);
-						v0 = std::min(v0, y), v1 = std::max(v1, y);
-					}
-			truth.t.x() -= (0.5 * (u0 + u1) - K_.cx) * truth.t.z() / K_.fx;
-			truth.t.y() -= (0.5 * (v0 + v1) - K_.cy) * truth.t.z() / K_.fy;
+			const Extent e = extent(depth);
+			truth.t.x() -= (0.5 * (e.u0 + e.u1) - K_.cx) * truth.t.z() / K_.fx;
+			truth.t.y() -= (0.5 * (e.v0 + e.v1) - K_.cy) * truth.t.z() / K_.fy;
 		}
 		depth = render(truth);
 		return truth;
@@ -241,13 +251,7 @@ TEST_F(ViewSearchTest, ABoxClippedByTheFrameFindsTheObjectPastItsEdge)
 	for (int i = 0; i < trials; ++i) {
 		std::vector<float> full;
 		const Pose truth = centredPose(rng, full);
-		int u0 = K_.width, u1 = -1, v0 = K_.height, v1 = -1;
-		for (int y = 0; y < K_.height; ++y)
-			for (int x = 0; x < K_.width; ++x)
-				if (full[static_cast<size_t>(y) * K_.width + x] < 1100) {
-					u0 = std::min(u0, x), u1 = std::max(u1, x);
-					v0 = std::min(v0, y), v1 = std::max(v1, y);
-				}
+		const auto [u0, u1, v0, v1] = extent(full);
 		// The box: the extent 10 % larger, its left third cut off by the
 		// frame; rows centred on the principal point as the virtual crop's.
 		const int mx = (u1 - u0) / 20, my = (v1 - v0) / 20;
