@@ -15,6 +15,7 @@
 #include "core/common/image.h"
 #include "core/geometry/camera_intrinsics.h"
 #include "core/geometry/mesh.h"
+#include "core/geometry/open_sides.h"
 #include "core/geometry/pose.h"
 
 namespace ihf {
@@ -44,16 +45,6 @@ struct ScoreConfig {
 	// object). 0: every inlier counts 1 (until session 7). Syn200 mean F1
 	// +0.01 to +0.07 per object with 1 (BENCHMARKS.md).
 	float residualWeight = 1.0f;
-};
-
-// Sides of the given box that lie on the frame border. A detector clips its
-// box there, so the object may run past such a side: overhang beyond it is
-// not evidence against a pose.
-struct OpenSides {
-	bool left = false;
-	bool top = false;
-	bool right = false;
-	bool bottom = false;
 };
 
 struct HypothesisScore {

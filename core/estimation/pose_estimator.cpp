@@ -376,8 +376,7 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	const float same = static_cast<float>(0.05 * diameter);
 	// A side on the frame border was clipped: that axis' centre is not the
 	// object's, and the model may go on past that side unseen.
-	const BoxAxes axes{!openSides_.left && !openSides_.right, !openSides_.top && !openSides_.bottom,
-			   openSides_.left, openSides_.top, openSides_.right, openSides_.bottom};
+	const BoxAxes axes{!openSides_.left && !openSides_.right, !openSides_.top && !openSides_.bottom, openSides_};
 	// One search (anchored in depth when anchor > 0); its proposals are
 	// scored in full, reported under `stage` and kept.
 	auto searchAt = [&](const Eigen::Vector3d &centre, float anchor, const char *stage) {

@@ -60,8 +60,8 @@ public:
 			if (u < 0 || w < 0 || u >= obs_.width || w >= obs_.height) {
 				// Beyond a side the frame clipped the point is unseen:
 				// the object may go on there (a border box).
-				if ((u < 0 && !box_.openLeft) || (u >= obs_.width && !box_.openRight) ||
-				    (w < 0 && !box_.openTop) || (w >= obs_.height && !box_.openBottom))
+				if ((u < 0 && !box_.open.left) || (u >= obs_.width && !box_.open.right) ||
+				    (w < 0 && !box_.open.top) || (w >= obs_.height && !box_.open.bottom))
 					++k.outside;
 				continue;
 			}
@@ -93,7 +93,7 @@ public:
 	// Translation at t's depth that puts the centre of the points' projected
 	// extent on the optical axis; on an axis the frame clipped on one side,
 	// the extent's edge on the box's other side (axes with neither keep t's).
-	Eigen::Vector3f centred(const TurnedView &v, const Eigen::Vector3f &t, BoxAxes axes) const
+	Eigen::Vector3f centred(const TurnedView &v, const Eigen::Vector3f &t) const
 	{
 		float u0 = 1e30f, u1 = -1e30f, w0 = 1e30f, w1 = -1e30f;
 		for (int i = 0; i < v.n; ++i) {
@@ -121,8 +121,8 @@ public:
 			return 0.0f;
 		};
 		Eigen::Vector3f out = t;
-		out.x() -= offset(u0, u1, cx_, obs_.width, axes.x, axes.openLeft, axes.openRight) * t.z() / fx_;
-		out.y() -= offset(w0, w1, cy_, obs_.height, axes.y, axes.openTop, axes.openBottom) * t.z() / fy_;
+		out.x() -= offset(u0, u1, cx_, obs_.width, box_.x, box_.open.left, box_.open.right) * t.z() / fx_;
+		out.y() -= offset(w0, w1, cy_, obs_.height, box_.y, box_.open.top, box_.open.bottom) * t.z() / fy_;
 		return out;
 	}
 
@@ -251,8 +251,8 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	const SparseScorer scorer(config, observed, K, box);
 	const Eigen::Vector3f centreF = centre.cast<float>();
 	const double distinct = config.distinctDeg * M_PI / 180.0;
-	const bool centring = config.boxCentre && (box.x || box.y || box.openLeft != box.openRight ||
-						   box.openTop != box.openBottom);
+	const bool centring = config.boxCentre && (box.x || box.y || box.open.left != box.open.right ||
+						   box.open.top != box.open.bottom);
 	const int inplane = config.inplane;
 
 	// The view's points (already rotated by the view) turned in-plane.
@@ -271,7 +271,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		t = r.t0;
 		float best = scorer.score(align(t), r.m);
 		if (centring) {
-			Eigen::Vector3f tb = scorer.centred(tv, r.t0, box);
+			Eigen::Vector3f tb = scorer.centred(tv, r.t0);
 			const float sb = scorer.score(align(tb), r.m);
 			if (sb > best) {
 				best = sb;

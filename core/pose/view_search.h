@@ -20,6 +20,7 @@
 
 #include "core/common/image.h"
 #include "core/geometry/camera_intrinsics.h"
+#include "core/geometry/open_sides.h"
 #include "core/geometry/pose.h"
 #include "core/pose/view_templates.h"
 #include "core/runtime/worker_pool.h"
@@ -93,14 +94,15 @@ inline ViewSearchConfig underBudget(ViewSearchConfig c)
 	return c;
 }
 
-// What the window (the given box) says where a side of it was clipped by
-// the frame border: the box's centre on that axis is not the object's, so
-// the axis may not centre a rotation; and a model point beyond that side is
-// unseen (no pixel), not outside the box, so it costs the score nothing.
+// What the window (the given box) says about the object's place: which
+// axes may centre a rotation (not one the frame clipped: the box's centre
+// there is not the object's), and which sides the frame clipped (a model
+// point past one is unseen, not outside the box, and on an axis clipped on
+// one side a rotation is placed against the other).
 struct BoxAxes {
 	bool x = true;
 	bool y = true;
-	bool openLeft = false, openTop = false, openRight = false, openBottom = false;
+	OpenSides open;
 };
 
 struct ViewProposal {

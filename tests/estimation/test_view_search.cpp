@@ -166,7 +166,7 @@ TEST_F(ViewSearchTest, FindsTheRotationOfACleanRenderFromAnOffDepth)
 		ViewProposal top[6];
 		// The voted centre is often off in depth by a part's offset error.
 		const size_t n = searchViews(templates(), cfg, ImageView<const float>(depth.data(), K_.width, K_.height, K_.width),
-					     K_, truth.t + Eigen::Vector3d(0, 0, 20), top, BoxAxes{false, false});
+					     K_, truth.t + Eigen::Vector3d(0, 0, 20), top, BoxAxes{false, false, {}});
 		ASSERT_GT(n, 0u);
 		const double deg = 180.0 / M_PI;
 		bestNear += rotationAngle(top[0].pose.R, truth.R) * deg < 20;
@@ -227,7 +227,7 @@ TEST_F(ViewSearchTest, BoxCentringRecoversALateralOffset)
 		ImageView<const float> view(depth.data(), K_.width, K_.height, K_.width);
 		ViewProposal top[6];
 		found += near(top, searchViews(templates(), cfg, view, K_, voted, top), truth, 15);
-		foundWithoutBox += near(top, searchViews(templates(), cfg, view, K_, voted, top, BoxAxes{false, false}), truth, 15);
+		foundWithoutBox += near(top, searchViews(templates(), cfg, view, K_, voted, top, BoxAxes{false, false, {}}), truth, 15);
 	}
 	RecordProperty("found", found);
 	RecordProperty("found_without_box", foundWithoutBox);
@@ -273,10 +273,9 @@ TEST_F(ViewSearchTest, ABoxClippedByTheFrameFindsTheObjectPastItsEdge)
 		const Eigen::Vector3d voted =
 			K.backProject(0.5 * (w - 1), 0.5 * (h - 1), truth.t.z() + 20);
 		ViewProposal top[6];
-		BoxAxes clipped{false, true};
-		clipped.openLeft = true;
+		const BoxAxes clipped{false, true, OpenSides{.left = true}};
 		found += near(top, searchViews(templates(), cfg, view, K, voted, top, clipped), truth, 15);
-		foundAsClosed += near(top, searchViews(templates(), cfg, view, K, voted, top, BoxAxes{false, true}), truth, 15);
+		foundAsClosed += near(top, searchViews(templates(), cfg, view, K, voted, top, BoxAxes{false, true, {}}), truth, 15);
 	}
 	RecordProperty("found", found);
 	RecordProperty("found_as_closed", foundAsClosed);
@@ -294,7 +293,7 @@ TEST_F(ViewSearchTest, ProposalsAreDistinctAndBestFirst)
 	cfg.distinctDeg = 20;
 	ViewProposal top[8];
 	const size_t n = searchViews(templates(), cfg, ImageView<const float>(depth.data(), K_.width, K_.height, K_.width),
-				     K_, truth.t, top, BoxAxes{false, false});
+				     K_, truth.t, top, BoxAxes{false, false, {}});
 	ASSERT_EQ(n, 8u);
 	for (size_t i = 0; i < n; ++i) {
 		if (i > 0) {
@@ -361,8 +360,8 @@ TEST_F(ViewSearchTest, ResidualWeightSeparatesTheTrueRotationFurther)
 		ImageView<const float> view(depth.data(), K_.width, K_.height, K_.width);
 		ViewProposal a[2], b[2];
 		const Eigen::Vector3d voted = truth.t + Eigen::Vector3d(0, 0, 15);
-		ASSERT_EQ(searchViews(templates(), plain, view, K_, voted, a, BoxAxes{false, false}), 2u);
-		ASSERT_EQ(searchViews(templates(), weighted, view, K_, voted, b, BoxAxes{false, false}), 2u);
+		ASSERT_EQ(searchViews(templates(), plain, view, K_, voted, a, BoxAxes{false, false, {}}), 2u);
+		ASSERT_EQ(searchViews(templates(), weighted, view, K_, voted, b, BoxAxes{false, false, {}}), 2u);
 		found += rotationAngle(b[0].pose.R, truth.R) * 180.0 / M_PI < 20;
 		// A weight only lowers a score.
 		EXPECT_LE(b[0].score, a[0].score + 1e-6f);
@@ -539,7 +538,7 @@ TEST_F(ViewSearchTest, ThreadsGiveTheSameProposals)
 		cfg.coarseKeep = 300;
 		const Eigen::Vector3d voted = truth.t + Eigen::Vector3d(4, -6, 25);
 		const float anchor = trial == 2 ? static_cast<float>(truth.t.z()) : 0.0f;
-		const BoxAxes axes = trial == 1 ? BoxAxes{false, false} : BoxAxes{};
+		const BoxAxes axes = trial == 1 ? BoxAxes{false, false, {}} : BoxAxes{};
 		ViewProposal one[6];
 		const size_t n1 = searchViews(templates(), cfg, view, K_, voted, one, axes, anchor);
 		ASSERT_GT(n1, 0u);
