@@ -381,6 +381,9 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	budget.get("max_iterations", e.budgetIterations);
 	budget.get("max_depth_windows", e.budgetDepthWindows);
 	budget.get("target_parts", e.budgetTargetParts);
+	budget.get("ibs_max_points", e.budgetIbsMaxPoints);
+	budget.get("ibs_cg_iterations", e.budgetIbsCgIterations);
+	budget.get("scale_by_box", e.budgetScaleByBox);
 	budget.get("margin", e.budgetMargin);
 	IHF_SECTION(budget);
 
@@ -461,6 +464,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.budgetIterations >= -1, "budget.max_iterations"),
 			  inRange(e.budgetDepthWindows >= -1, "budget.max_depth_windows"),
 			  inRange(e.budgetTargetParts >= 0, "budget.target_parts"),
+			  inRange(e.budgetIbsMaxPoints >= 0, "budget.ibs_max_points"),
+			  inRange(e.budgetIbsCgIterations >= 0, "budget.ibs_cg_iterations"),
 			  inRange(e.budgetMargin >= 0 && e.budgetMargin <= 10, "budget.margin"),
 			  inRange(s.limits.threads >= 0 && s.limits.threads <= WorkerPool::kMaxThreads, "limits.threads")})
 		if (!st)

@@ -192,7 +192,7 @@ bool PoseEstimator::refinementFits(const EstimatorConfig &config)
 	int64_t predicted = passCost(config.budgetMargin);
 	// Keep room for the polish after the last iteration.
 	if (config.icp)
-		predicted += costs_.bound(Stage::kIcp, config.budgetMargin);
+		predicted += costs_.bound(Stage::kIcp, config.budgetMargin, boxWork_);
 	return boxFits(predicted);
 }
 
@@ -210,7 +210,7 @@ bool PoseEstimator::boxFits(int64_t predictedNs)
 
 bool PoseEstimator::icpFits(double margin)
 {
-	return fitsBudget(costs_.bound(Stage::kIcp, margin), icpSkipped_);
+	return fitsBudget(costs_.bound(Stage::kIcp, margin, boxWork_), icpSkipped_);
 }
 
 // Whether predictedNs more still fits the frame and box; counts a refusal.
@@ -548,7 +548,7 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 	const int keepN = std::clamp(cfg.keep, 1, kMaxKeep);
 	Hypothesis found = best;
 	for (int c = 0; c < ns; ++c) {
-		if (!boxFits(costs_.bound(Stage::kHalfTurns, config.budgetMargin)))
+		if (!boxFits(costs_.bound(Stage::kHalfTurns, config.budgetMargin, boxWork_)))
 			break;
 		const int64_t start = timer_.last();
 		const std::optional<Eigen::Vector3d> shown = cfg.align ? shownCentroid(sources[c].pose, K, model)
@@ -606,7 +606,7 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 			if (r.score.score > found.score.score)
 				found = r;
 		}
-		costs_.observe(Stage::kHalfTurns, timer_.lap(Stage::kHalfTurns) - start);
+		costs_.observe(Stage::kHalfTurns, timer_.lap(Stage::kHalfTurns) - start, boxWork_);
 	}
 	return found;
 }
@@ -672,8 +672,13 @@ int PoseEstimator::voteOnce(const CameraIntrinsics &K, const ObjectModel &model,
 	}
 	std::span<const CloudPoint> cloud(cloud_.data(), cloudCount);
 	timer_.lap(Stage::kNormalise);
+	IbsConfig ibs = params.ibs;
+	if (config.ibsMaxPoints > 0)
+		ibs.maxPoints = std::min(ibs.maxPoints, config.ibsMaxPoints);
+	if (config.ibsCgIterations > 0)
+		ibs.cgMaxIterations = std::min(ibs.cgMaxIterations, config.ibsCgIterations);
 	auto fit = fitter_.fit(std::span(unit_.data(), cloud.size()),
-			       std::span(normals_.data(), cloud.size()), params.ibs, active_, {}, &workers_);
+			       std::span(normals_.data(), cloud.size()), ibs, active_, {}, &workers_);
 	timer_.lap(Stage::kIbsFit);
 	if (!fit)
 		return 0;
@@ -951,6 +956,11 @@ EstimatorConfig underBudget(EstimatorConfig c)
 		c.depthWindows = std::min(c.depthWindows, c.budgetDepthWindows);
 	if (c.budgetTargetParts > 0)
 		c.targetParts = c.targetParts > 0 ? std::min(c.targetParts, c.budgetTargetParts) : c.budgetTargetParts;
+	if (c.budgetIbsMaxPoints > 0)
+		c.ibsMaxPoints = c.ibsMaxPoints > 0 ? std::min(c.ibsMaxPoints, c.budgetIbsMaxPoints) : c.budgetIbsMaxPoints;
+	if (c.budgetIbsCgIterations > 0)
+		c.ibsCgIterations = c.ibsCgIterations > 0 ? std::min(c.ibsCgIterations, c.budgetIbsCgIterations)
+							 : c.budgetIbsCgIterations;
 	c.views = underBudget(c.views);
 	return c;
 }
@@ -990,6 +1000,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		return out;
 	}
 	const CameraIntrinsics &vk = crop->intrinsics;
+	boxWork_ = config.budgetScaleByBox ? std::max(1, crop->validPixels) : 1;
 	openSides_ = openSides(box, depth.width, depth.height);
 	const int w = vk.width, h = vk.height;
 	peaks_.windowPixels = std::max(peaks_.windowPixels, w * h);
@@ -1161,7 +1172,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		polishedCount = c0 + n;
 		// The cost model sees the whole round (its clouds are counted
 		// under the cloud stage on one thread, under ICP on more).
-		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart);
+		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart, boxWork_);
 	}
 	// The model's box centre: the half-turns' pivot, and what a symmetric
 	// object's rivals are compared by.
@@ -1181,7 +1192,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		last.maxDistanceMm = last.minDistanceMm;
 		const int64_t icpStart = timer_.last();
 		const Hypothesis converged = polishOn(best, vk, model, config, Stage::kIcp, 0, last);
-		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart);
+		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart, boxWork_);
 		if (converged.valid) {
 			report(converged.iteration, "icp_final", 0, converged.pose, converged.score, 0);
 			if (converged.score.score >= best.score.score) {

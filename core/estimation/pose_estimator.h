@@ -123,11 +123,25 @@ struct EstimatorConfig {
 	// budget): a large object's registration alone overruns 33 ms at 600,
 	// and the time buys more in the view search (BENCHMARKS.md, session 14).
 	int budgetTargetParts = 30;
+	// The IBS fit of a box, from at most this many depth points and with
+	// at most this many CG iterations (0: the forest's own [ibs] values);
+	// inside a budget the budget* ones (0: as without a budget). The fit
+	// is the registration's largest stage on a 33 ms frame.
+	int ibsMaxPoints = 0;
+	int ibsCgIterations = 0;
+	int budgetIbsMaxPoints = 0;
+	int budgetIbsCgIterations = 0;
 	// A stage that can be cut runs only if its average cost plus this many
 	// mean deviations fits (stage_timer.h): the average alone is exceeded
 	// about half the time, and the box then overruns (BENCHMARKS.md,
 	// session 13: 1 cuts the overruns by 2/3 for ~0.015 mean F1).
 	float budgetMargin = 1.0f;
+	// The polish and the half-turns (renders and ICP on the crop) are
+	// predicted per depth pixel of the box, scaled to each box: the
+	// warm-up's box is the largest, and its cost taken as is kept the
+	// polish out of every small box that followed (BENCHMARKS.md, session
+	// 19). false: their last costs as they are.
+	bool budgetScaleByBox = true;
 };
 
 // The settings a box runs with inside a frame budget.
@@ -368,6 +382,10 @@ private:
 	SteadyClock steadyClock_;
 	StageTimer timer_;
 	StageCostModel costs_;
+	// The box's valid depth pixels: the polish and the half-turns (renders,
+	// ICP on the crop) cost in proportion, so their predictions scale with
+	// it; the warm-up's box is the largest one.
+	double boxWork_ = 1.0;
 	FrameBudget budget_;
 	uint64_t iterationsRun_ = 0, budgetStops_ = 0, icpSkipped_ = 0;
 	bool boxCut_ = false; // the budget refused a stage of the current box

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/runtime/stage_timer.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace ihf {
@@ -34,10 +35,10 @@ StageTotals StageTimer::totals() const
 	return t;
 }
 
-void StageCostModel::observe(Stage stage, int64_t ns)
+void StageCostModel::observe(Stage stage, int64_t ns, double work)
 {
 	const int i = static_cast<int>(stage);
-	const double x = static_cast<double>(ns);
+	const double x = static_cast<double>(ns) / std::max(work, 1e-9);
 	if (!seen_[i]) {
 		average_[i] = x;
 		deviation_[i] = 0.25 * x;
@@ -61,10 +62,10 @@ int64_t StageCostModel::average(Stage stage) const
 	return static_cast<int64_t>(std::ceil(average_[static_cast<int>(stage)]));
 }
 
-int64_t StageCostModel::bound(Stage stage, double margin) const
+int64_t StageCostModel::bound(Stage stage, double margin, double work) const
 {
 	const int i = static_cast<int>(stage);
-	return static_cast<int64_t>(std::ceil(average_[i] + std::max(0.0, margin) * deviation_[i]));
+	return static_cast<int64_t>(std::ceil((average_[i] + std::max(0.0, margin) * deviation_[i]) * work));
 }
 
 int64_t StageCostModel::predict(std::initializer_list<Stage> stages, double margin) const

@@ -122,7 +122,9 @@ public:
 	// One iteration's cost per stage: the difference of two totals()
 	// snapshots. Stages that did not run in it are left alone.
 	void observe(const StageTotals &before, const StageTotals &after);
-	void observe(Stage stage, int64_t ns);
+	// One run of a stage whose cost grows with `work` (e.g. the box's depth
+	// pixels; 1: a fixed cost): the model keeps the cost per unit of work.
+	void observe(Stage stage, int64_t ns, double work = 1.0);
 
 	// Predicted cost of running the given stages once more (0 for a stage
 	// never observed): each stage's bound().
@@ -132,7 +134,7 @@ public:
 	// (margin 0: the average): a cost the stage exceeds less often, for
 	// budgets that must not overrun. One observation says nothing of the
 	// spread, so it starts at a quarter of the first cost.
-	int64_t bound(Stage stage, double margin) const;
+	int64_t bound(Stage stage, double margin, double work = 1.0) const;
 
 private:
 	double alpha_;

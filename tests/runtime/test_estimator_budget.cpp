@@ -52,6 +52,9 @@ protected:
 		c.budgetDepthWindows = -1;
 		c.budgetTargetParts = 0;
 		c.budgetMargin = 0; // predictions are the averages
+		// The step clock's costs do not grow with the box: predictions
+		// as measured.
+		c.budgetScaleByBox = false;
 		return c;
 	}
 
@@ -75,6 +78,28 @@ protected:
 	{
 		test::StepClock clock(kMs);
 		PoseEstimator e({}, &clock);
+		PoseEstimate r = run(e, c);
+		return {r, e.stats()};
+	}
+
+	// What an unlimited box spends before its polish, and on it.
+	struct PolishCost {
+		int64_t before = 0, icp = 0;
+	};
+	PolishCost polishCost(const EstimatorConfig &c)
+	{
+		auto [r, s] = runFresh(c);
+		EXPECT_TRUE(r.icpApplied);
+		const int64_t icp = static_cast<int64_t>(s.stages[static_cast<int>(Stage::kIcp)].totalNs);
+		return {static_cast<int64_t>(s.worstFrameNs) - icp, icp};
+	}
+
+	// One box after the warm-up, on a fresh estimator whose clock steps 1 ms.
+	std::pair<PoseEstimate, EstimatorStats> runWarm(const EstimatorConfig &c)
+	{
+		test::StepClock clock(kMs);
+		PoseEstimator e({}, &clock);
+		EXPECT_TRUE(e.warmUp(*model_->model, test::kKinect, c).ok());
 		PoseEstimate r = run(e, c);
 		return {r, e.stats()};
 	}
@@ -475,21 +500,35 @@ TEST_F(EstimatorBudget, MarginKeepsRoomForACostlierStage)
 {
 	EstimatorConfig c = config(0, 0.0f, true);
 	c.halfTurns.candidates = 0;
-	auto [r, s] = runFresh(c);
-	ASSERT_TRUE(r.icpApplied);
-	const int64_t icp = static_cast<int64_t>(s.stages[static_cast<int>(Stage::kIcp)].totalNs);
-	const int64_t before = static_cast<int64_t>(s.worstFrameNs) - icp;
+	const auto [before, icp] = polishCost(c);
 	ASSERT_GE(icp, 4 * kMs) << "the polish must cost a few clock reads for this test";
 	c.frameBudgetMs = static_cast<float>((before + icp + icp / 4) / kMs); // room for 1.25 polishes
 	for (float margin : {0.0f, 2.0f}) {
 		c.budgetMargin = margin;
-		test::StepClock clock(kMs);
-		PoseEstimator e({}, &clock);
-		ASSERT_TRUE(e.warmUp(*model_->model, test::kKinect, c).ok());
-		r = run(e, c);
+		const auto [r, s] = runWarm(c);
 		ASSERT_TRUE(r.found) << r.reason;
 		EXPECT_EQ(r.icpApplied, margin == 0.0f) << "margin " << margin;
-		EXPECT_EQ(e.stats().boxOverruns, 0u) << "margin " << margin;
+		EXPECT_EQ(s.boxOverruns, 0u) << "margin " << margin;
+	}
+}
+
+// The polish's prediction per depth pixel: the warm-up's box (the largest,
+// with a wall behind) has several times the pixels of this one, so the
+// polish measured there, as is, does not fit this box's budget, and scaled
+// to this box it does.
+TEST_F(EstimatorBudget, ThePolishIsPredictedForEachBoxFromItsDepthPixels)
+{
+	EstimatorConfig c = config(0, 0.0f, true);
+	c.halfTurns.candidates = 0;
+	const auto [before, icp] = polishCost(c);
+	ASSERT_GE(icp, 2 * kMs) << "the polish must cost more than a clock read for this test";
+	c.frameBudgetMs = static_cast<float>((before + icp / 2) / kMs);
+	for (bool scaled : {false, true}) {
+		c.budgetScaleByBox = scaled;
+		const auto [r, s] = runWarm(c);
+		ASSERT_TRUE(r.found) << r.reason;
+		EXPECT_EQ(r.icpApplied, scaled) << "scaled " << scaled;
+		EXPECT_EQ(r.icpSkipped, !scaled) << "scaled " << scaled;
 	}
 }
 
@@ -509,7 +548,7 @@ TEST_F(EstimatorBudget, WarmUpSaysWhatIsWrong)
 
 // The device's bounds: a budget never raises a setting above the unlimited
 // one, and 0 / -1 leave it as it is.
-TEST(EstimatorUnderBudget, BoundsIterationsSlabsAndParts)
+TEST(EstimatorUnderBudget, BoundsIterationsSlabsPartsAndTheFit)
 {
 	ihf::EstimatorConfig c;
 	c.iterations = 5;
@@ -534,4 +573,17 @@ TEST(EstimatorUnderBudget, BoundsIterationsSlabsAndParts)
 	EXPECT_EQ(b.targetParts, 600);
 	EXPECT_EQ(b.iterations, 5);
 	EXPECT_EQ(b.depthWindows, 2);
+	// The IBS fit's points and CG iterations: 0 is the forest's own.
+	EXPECT_EQ(b.ibsMaxPoints, 0);
+	EXPECT_EQ(b.ibsCgIterations, 0);
+	c.budgetIbsMaxPoints = 1000;
+	c.budgetIbsCgIterations = 10;
+	b = ihf::underBudget(c);
+	EXPECT_EQ(b.ibsMaxPoints, 1000);
+	EXPECT_EQ(b.ibsCgIterations, 10);
+	c.ibsMaxPoints = 800; // already below
+	c.ibsCgIterations = 20;
+	b = ihf::underBudget(c);
+	EXPECT_EQ(b.ibsMaxPoints, 800);
+	EXPECT_EQ(b.ibsCgIterations, 10);
 }

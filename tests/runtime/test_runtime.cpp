@@ -195,6 +195,20 @@ TEST(StageCostModel, BoundAddsTheRunningDeviation)
 	EXPECT_LE(model.bound(Stage::kIcp, 2.0), 1501); // (rounded up)
 }
 
+TEST(StageCostModel, ACostThatGrowsWithTheBoxIsPredictedPerUnitOfWork)
+{
+	StageCostModel model(0.5);
+	model.observe(Stage::kIcp, 8000, 4000.0); // a large box: 2 ns per pixel
+	EXPECT_EQ(model.average(Stage::kIcp), 2);
+	EXPECT_EQ(model.bound(Stage::kIcp, 0.0, 500.0), 1000); // a small box's polish
+	EXPECT_EQ(model.bound(Stage::kIcp, 2.0, 500.0), 1500); // spread: a quarter, scaled too
+	model.observe(Stage::kIcp, 1500, 500.0);                // 3 ns per pixel
+	EXPECT_EQ(model.bound(Stage::kIcp, 0.0, 1000.0), 2500);
+	EXPECT_EQ(model.predict({Stage::kIcp}), 3); // predict() is per unit: rounded up
+	model.observe(Stage::kViews, 6000); // a fixed cost, as before
+	EXPECT_EQ(model.bound(Stage::kViews, 0.0), 6000);
+}
+
 TEST(FrameBudget, BoxesShareWhatIsLeft)
 {
 	FrameBudget b;
