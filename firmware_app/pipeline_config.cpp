@@ -384,6 +384,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	budget.get("ibs_max_points", e.budgetIbsMaxPoints);
 	budget.get("ibs_cg_iterations", e.budgetIbsCgIterations);
 	budget.get("scale_by_box", e.budgetScaleByBox);
+	budget.get("max_window_pixels", e.budgetWindowPixels);
 	budget.get("margin", e.budgetMargin);
 	IHF_SECTION(budget);
 
@@ -466,6 +467,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.budgetTargetParts >= 0, "budget.target_parts"),
 			  inRange(e.budgetIbsMaxPoints >= 0, "budget.ibs_max_points"),
 			  inRange(e.budgetIbsCgIterations >= 0, "budget.ibs_cg_iterations"),
+			  inRange(e.budgetWindowPixels >= 0, "budget.max_window_pixels"),
 			  inRange(e.budgetMargin >= 0 && e.budgetMargin <= 10, "budget.margin"),
 			  inRange(s.limits.threads >= 0 && s.limits.threads <= WorkerPool::kMaxThreads, "limits.threads")})
 		if (!st)

@@ -961,6 +961,8 @@ EstimatorConfig underBudget(EstimatorConfig c)
 	if (c.budgetIbsCgIterations > 0)
 		c.ibsCgIterations = c.ibsCgIterations > 0 ? std::min(c.ibsCgIterations, c.budgetIbsCgIterations)
 							 : c.budgetIbsCgIterations;
+	if (c.budgetWindowPixels > 0)
+		c.windowPixels = c.windowPixels > 0 ? std::min(c.windowPixels, c.budgetWindowPixels) : c.budgetWindowPixels;
 	c.views = underBudget(c.views);
 	return c;
 }
@@ -988,7 +990,10 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		return out;
 	}
 	VirtualCrop cropStorage;
-	const CropStatus cropStatus = makeVirtualCrop(depth, K, box, observed_, cropStorage);
+	std::span<float> window = observed_;
+	if (config.windowPixels > 0 && static_cast<size_t>(config.windowPixels) < window.size())
+		window = window.first(static_cast<size_t>(config.windowPixels));
+	const CropStatus cropStatus = makeVirtualCrop(depth, K, box, window, cropStorage);
 	timer_.lap(Stage::kCrop);
 	if (cropStatus != CropStatus::kOk) {
 		out.reason = cropStatus == CropStatus::kOutsideImage ? "box outside the image" : "empty box";

@@ -126,11 +126,18 @@ struct EstimatorConfig {
 	// The IBS fit of a box, from at most this many depth points and with
 	// at most this many CG iterations (0: the forest's own [ibs] values);
 	// inside a budget the budget* ones (0: as without a budget). The fit
-	// is the registration's largest stage on a 33 ms frame.
+	// was a third of a 33 ms box; there the votes only place the view
+	// search (BENCHMARKS.md, session 19).
 	int ibsMaxPoints = 0;
 	int ibsCgIterations = 0;
-	int budgetIbsMaxPoints = 0;
-	int budgetIbsCgIterations = 0;
+	int budgetIbsMaxPoints = 500;
+	int budgetIbsCgIterations = 10;
+	// A box's window at most this many pixels (0: EstimatorLimits::
+	// maxWindowPixels); a larger box is processed downsampled, as at the
+	// limit. Inside a budget the budget one: the render, score and polish
+	// of a near or large object grow with its pixels.
+	int windowPixels = 0;
+	int budgetWindowPixels = 4000;
 	// A stage that can be cut runs only if its average cost plus this many
 	// mean deviations fits (stage_timer.h): the average alone is exceeded
 	// about half the time, and the box then overruns (BENCHMARKS.md,

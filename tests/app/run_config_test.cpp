@@ -141,6 +141,10 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.budgetIterations, b.budgetIterations);
 	EXPECT_EQ(a.budgetDepthWindows, b.budgetDepthWindows);
 	EXPECT_EQ(a.budgetTargetParts, b.budgetTargetParts);
+	EXPECT_EQ(a.budgetIbsMaxPoints, b.budgetIbsMaxPoints);
+	EXPECT_EQ(a.budgetIbsCgIterations, b.budgetIbsCgIterations);
+	EXPECT_EQ(a.budgetWindowPixels, b.budgetWindowPixels);
+	EXPECT_EQ(a.budgetScaleByBox, b.budgetScaleByBox);
 	EXPECT_EQ(none->limits.threads, bundled->limits.threads);
 	EXPECT_EQ(a.search.levels, b.search.levels);
 	EXPECT_EQ(a.bank.viewpoints, b.bank.viewpoints);

@@ -51,6 +51,9 @@ protected:
 		c.budgetIterations = -1;
 		c.budgetDepthWindows = -1;
 		c.budgetTargetParts = 0;
+		c.budgetIbsMaxPoints = 0;
+		c.budgetIbsCgIterations = 0;
+		c.budgetWindowPixels = 0;
 		c.budgetMargin = 0; // predictions are the averages
 		// The step clock's costs do not grow with the box: predictions
 		// as measured.
@@ -312,6 +315,31 @@ TEST_F(EstimatorBudget, LargeBoxesAreDownsampledToTheWindowLimit)
 	EXPECT_GT(e.stats().peaks.windowPixels, 0);
 }
 
+// The window asked by the config (the device's smaller one under a budget)
+// downsamples the same way inside the arena's limit.
+TEST_F(EstimatorBudget, ABudgetWindowDownsamplesLargeBoxes)
+{
+	const EstimatorLimits limits;
+	PoseEstimator e(limits);
+	ASSERT_TRUE(e.valid());
+	ASSERT_TRUE(run(e, config(0, 0.0f)).found);
+	const int full = e.stats().peaks.windowPixels;
+	ASSERT_GT(full, 1500) << "the box must be larger than the budget window for this test";
+
+	EstimatorConfig c = config(0, 1e6f); // a budget that never refuses
+	c.budgetWindowPixels = 1500;
+	PoseEstimator b(limits);
+	PoseEstimate r = run(b, c);
+	EXPECT_TRUE(r.found) << r.reason;
+	EXPECT_LE(b.stats().peaks.windowPixels, 1500);
+	EXPECT_GT(b.stats().peaks.windowPixels, full / 9); // downsampled by 2, not more
+
+	c.frameBudgetMs = 0; // unlimited: the budget's window does not apply
+	PoseEstimator u(limits);
+	ASSERT_TRUE(run(u, c).found);
+	EXPECT_EQ(u.stats().peaks.windowPixels, full);
+}
+
 TEST_F(EstimatorBudget, WithoutItsArenaTheEstimatorSaysSo)
 {
 	EstimatorLimits limits;
@@ -548,7 +576,7 @@ TEST_F(EstimatorBudget, WarmUpSaysWhatIsWrong)
 
 // The device's bounds: a budget never raises a setting above the unlimited
 // one, and 0 / -1 leave it as it is.
-TEST(EstimatorUnderBudget, BoundsIterationsSlabsPartsAndTheFit)
+TEST(EstimatorUnderBudget, BoundsIterationsSlabsPartsTheFitAndTheWindow)
 {
 	ihf::EstimatorConfig c;
 	c.iterations = 5;
@@ -573,14 +601,22 @@ TEST(EstimatorUnderBudget, BoundsIterationsSlabsPartsAndTheFit)
 	EXPECT_EQ(b.targetParts, 600);
 	EXPECT_EQ(b.iterations, 5);
 	EXPECT_EQ(b.depthWindows, 2);
-	// The IBS fit's points and CG iterations: 0 is the forest's own.
+	// The IBS fit's points and CG iterations, the window: 0 is as without
+	// a budget (the forest's, the limit's).
+	c.budgetIbsMaxPoints = 0;
+	c.budgetIbsCgIterations = 0;
+	c.budgetWindowPixels = 0;
+	b = ihf::underBudget(c);
 	EXPECT_EQ(b.ibsMaxPoints, 0);
 	EXPECT_EQ(b.ibsCgIterations, 0);
+	EXPECT_EQ(b.windowPixels, 0);
 	c.budgetIbsMaxPoints = 1000;
 	c.budgetIbsCgIterations = 10;
+	c.budgetWindowPixels = 12000;
 	b = ihf::underBudget(c);
 	EXPECT_EQ(b.ibsMaxPoints, 1000);
 	EXPECT_EQ(b.ibsCgIterations, 10);
+	EXPECT_EQ(b.windowPixels, 12000);
 	c.ibsMaxPoints = 800; // already below
 	c.ibsCgIterations = 20;
 	b = ihf::underBudget(c);
