@@ -129,7 +129,7 @@ public:
 	// Predicted cost of running the given stages once more (0 for a stage
 	// never observed): each stage's bound().
 	int64_t predict(std::initializer_list<Stage> stages, double margin = 0) const;
-	int64_t average(Stage stage) const;
+	int64_t average(Stage stage) const; // per unit of work
 	// The running average plus `margin` running mean absolute deviations
 	// (margin 0: the average): a cost the stage exceeds less often, for
 	// budgets that must not overrun. One observation says nothing of the
