@@ -602,24 +602,17 @@ TEST(EstimatorUnderBudget, BoundsIterationsSlabsPartsTheFitAndTheWindow)
 	EXPECT_EQ(b.iterations, 5);
 	EXPECT_EQ(b.depthWindows, 2);
 	// The IBS fit's points and CG iterations, the window: 0 is as without
-	// a budget (the forest's, the limit's).
-	c.budgetIbsMaxPoints = 0;
-	c.budgetIbsCgIterations = 0;
-	c.budgetWindowPixels = 0;
-	b = ihf::underBudget(c);
-	EXPECT_EQ(b.ibsMaxPoints, 0);
-	EXPECT_EQ(b.ibsCgIterations, 0);
-	EXPECT_EQ(b.windowPixels, 0);
-	c.budgetIbsMaxPoints = 1000;
-	c.budgetIbsCgIterations = 10;
-	c.budgetWindowPixels = 12000;
-	b = ihf::underBudget(c);
-	EXPECT_EQ(b.ibsMaxPoints, 1000);
-	EXPECT_EQ(b.ibsCgIterations, 10);
-	EXPECT_EQ(b.windowPixels, 12000);
+	// a budget (the forest's, the limit's); else the smaller one.
+	const auto fitAndWindow = [&c](int points, int iterations, int pixels) {
+		c.budgetIbsMaxPoints = points;
+		c.budgetIbsCgIterations = iterations;
+		c.budgetWindowPixels = pixels;
+		const ihf::EstimatorConfig u = ihf::underBudget(c);
+		return std::tuple(u.ibsMaxPoints, u.ibsCgIterations, u.windowPixels);
+	};
+	EXPECT_EQ(fitAndWindow(0, 0, 0), std::tuple(0, 0, 0));
+	EXPECT_EQ(fitAndWindow(1000, 10, 12000), std::tuple(1000, 10, 12000));
 	c.ibsMaxPoints = 800; // already below
 	c.ibsCgIterations = 20;
-	b = ihf::underBudget(c);
-	EXPECT_EQ(b.ibsMaxPoints, 800);
-	EXPECT_EQ(b.ibsCgIterations, 10);
+	EXPECT_EQ(fitAndWindow(1000, 10, 12000), std::tuple(800, 10, 12000));
 }
