@@ -948,21 +948,29 @@ Status PoseEstimator::warmUp(const ObjectModel &model, const CameraIntrinsics &K
 	return {};
 }
 
+namespace {
+
+// A setting bounded by its budget value: the smaller where both are set,
+// 0 meaning unset on either side.
+int underBound(int own, int budget)
+{
+	if (budget <= 0)
+		return own;
+	return own > 0 ? std::min(own, budget) : budget;
+}
+
+} // namespace
+
 EstimatorConfig underBudget(EstimatorConfig c)
 {
 	if (c.budgetIterations >= 0)
 		c.iterations = std::min(c.iterations, c.budgetIterations);
 	if (c.budgetDepthWindows >= 0)
 		c.depthWindows = std::min(c.depthWindows, c.budgetDepthWindows);
-	if (c.budgetTargetParts > 0)
-		c.targetParts = c.targetParts > 0 ? std::min(c.targetParts, c.budgetTargetParts) : c.budgetTargetParts;
-	if (c.budgetIbsMaxPoints > 0)
-		c.ibsMaxPoints = c.ibsMaxPoints > 0 ? std::min(c.ibsMaxPoints, c.budgetIbsMaxPoints) : c.budgetIbsMaxPoints;
-	if (c.budgetIbsCgIterations > 0)
-		c.ibsCgIterations = c.ibsCgIterations > 0 ? std::min(c.ibsCgIterations, c.budgetIbsCgIterations)
-							 : c.budgetIbsCgIterations;
-	if (c.budgetWindowPixels > 0)
-		c.windowPixels = c.windowPixels > 0 ? std::min(c.windowPixels, c.budgetWindowPixels) : c.budgetWindowPixels;
+	c.targetParts = underBound(c.targetParts, c.budgetTargetParts);
+	c.ibsMaxPoints = underBound(c.ibsMaxPoints, c.budgetIbsMaxPoints);
+	c.ibsCgIterations = underBound(c.ibsCgIterations, c.budgetIbsCgIterations);
+	c.windowPixels = underBound(c.windowPixels, c.budgetWindowPixels);
 	c.views = underBudget(c.views);
 	return c;
 }
