@@ -3,6 +3,11 @@
 
 namespace ihf {
 
+Eigen::Matrix3d rotationBetween(const Eigen::Vector3d &from, const Eigen::Vector3d &to)
+{
+	return Eigen::Quaterniond::FromTwoVectors(from, to).toRotationMatrix();
+}
+
 Eigen::Matrix3d lookAtRotation(const Eigen::Vector3d &viewDir, double inplane)
 {
 	// Camera axes in model coordinates: z looks from the camera at the

@@ -33,13 +33,17 @@ inline float quatAngle(const Eigen::Quaternionf &a, const Eigen::Quaternionf &b)
 	return 2.0f * static_cast<float>(std::acos(static_cast<double>(c > 1.0f ? 1.0f : c)));
 }
 
+// The minimal rotation taking unit-direction `from` onto `to`
+// (Eigen's FromTwoVectors). Out of line: its opposite-vectors case
+// instantiates a JacobiSVD, ~10 s of compile time in every includer.
+Eigen::Matrix3d rotationBetween(const Eigen::Vector3d &from, const Eigen::Vector3d &to);
+
 // Rotation taking the optical axis (0,0,1) onto the unit ray `dir`, with no
 // twist about the axis (the minimal rotation). Used to turn a crop into a
 // virtual camera looking straight at it.
 inline Eigen::Matrix3d rayAlignment(const Eigen::Vector3d &dir)
 {
-	return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), dir.normalized())
-		.toRotationMatrix();
+	return rotationBetween(Eigen::Vector3d::UnitZ(), dir.normalized());
 }
 
 // Camera-from-model rotation for a camera on the unit sphere direction

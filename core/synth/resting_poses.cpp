@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include "core/geometry/rotation.h"
 #include "core/synth/convex_hull.h"
 
 namespace ihf {
@@ -51,20 +52,6 @@ void rotatedBounds(const Mesh &mesh, const Eigen::Matrix3d &R, Eigen::Vector3d &
 }
 
 namespace {
-
-// Evenly spread unit vectors (Fibonacci lattice): equal area per point, so
-// counting points measures solid angle.
-std::vector<Eigen::Vector3d> fibonacciSphere(int n)
-{
-	std::vector<Eigen::Vector3d> dirs(n);
-	const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
-	for (int i = 0; i < n; ++i) {
-		const double z = 1.0 - (2.0 * i + 1.0) / n;
-		const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-		dirs[i] = {r * std::cos(golden * i), r * std::sin(golden * i), z};
-	}
-	return dirs;
-}
 
 // Whether q lies inside the convex hull of the (coplanar) points, in the
 // plane with normal n, with at least margin to spare.
@@ -209,8 +196,7 @@ Expected<std::vector<RestingPose>> computeRestingPoses(const Mesh &mesh, int dir
 			continue;
 		RestingPose pose;
 		// Rotate the facet's outward normal onto -z (the table below).
-		pose.R = Eigen::Quaterniond::FromTwoVectors(stable[f]->normal, Eigen::Vector3d(0, 0, -1))
-				 .toRotationMatrix();
+		pose.R = rotationBetween(stable[f]->normal, Eigen::Vector3d(0, 0, -1));
 		pose.probability = share[f] / total;
 		rotatedBounds(mesh, pose.R, pose.min, pose.max);
 		poses.push_back(pose);

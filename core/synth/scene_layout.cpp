@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "core/geometry/rotation.h"
 #include "core/synth/primitive_mesh.h"
 
 namespace ihf {
@@ -83,7 +84,7 @@ SynthView lookAtTarget(const Eigen::Vector3d &target, double distance, double el
 	R = Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix() * R;
 	const Eigen::Vector3d ray =
 		Eigen::Vector3d((aim.x() - K.cx) / K.fx, (aim.y() - K.cy) / K.fy, 1.0).normalized();
-	R = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), ray).toRotationMatrix() * R;
+	R = rotationBetween(Eigen::Vector3d::UnitZ(), ray) * R;
 	v.worldToCamera.R = R;
 	v.worldToCamera.t = -R * v.centre;
 	return v;
