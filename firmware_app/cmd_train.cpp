@@ -4,8 +4,8 @@
 
 #include <chrono>
 #include <cstdio>
-#include <regex>
 
+#include "core/dataset/bop_dataset.h"
 #include "core/dataset/bop_io.h"
 #include "core/forest/forest_trainer.h"
 #include "core/geometry/ply_loader.h"
@@ -64,10 +64,8 @@ int runTrain(const TrainOptions &o)
 	}
 
 	int objId = o.objId;
-	std::smatch m;
-	std::string stem = std::filesystem::path(o.model).stem().string();
-	if (objId < 0 && std::regex_match(stem, m, std::regex("obj_0*([0-9]+)")))
-		objId = std::stoi(m[1]);
+	if (objId < 0)
+		objId = modelObjId(std::filesystem::path(o.model).stem().string()).value_or(-1);
 	if (objId < 0) {
 		std::fprintf(stderr, "ihf train: cannot tell the object id from %s; pass --obj-id\n",
 			     o.model.c_str());

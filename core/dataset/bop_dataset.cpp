@@ -2,6 +2,7 @@
 #include "core/dataset/bop_dataset.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cstdio>
 
 #include "core/dataset/bop_io.h"
@@ -118,6 +119,20 @@ fs::path BopDataset::depthPath(int sceneId, int imId) const
 fs::path BopDataset::modelPath(int objId) const
 {
 	return root_ / "models" / ("obj_" + sixDigits(objId) + ".ply");
+}
+
+std::optional<int> modelObjId(std::string_view stem)
+{
+	constexpr std::string_view prefix = "obj_";
+	if (!stem.starts_with(prefix) || stem.size() == prefix.size())
+		return std::nullopt;
+	const char *first = stem.data() + prefix.size(), *last = stem.data() + stem.size();
+	int id = 0;
+	const auto [end, ec] = std::from_chars(first, last, id);
+	// Digits only: from_chars would take a sign.
+	if (ec != std::errc() || end != last || *first < '0' || *first > '9')
+		return std::nullopt;
+	return id;
 }
 
 Expected<BopScene> BopDataset::loadScene(int sceneId) const

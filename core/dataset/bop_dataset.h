@@ -6,6 +6,8 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 #include "core/common/expected.h"
@@ -53,6 +55,10 @@ private:
 	BopCamera camera_;
 	std::map<int, ModelInfo> modelsInfo_;
 };
+
+// The object id of a BOP model file name's stem ("obj_000005" -> 5,
+// modelPath's inverse); nullopt for any other name.
+std::optional<int> modelObjId(std::string_view stem);
 
 // Writes a dataset skeleton: ROOT/camera.json and models_info.json.
 Status createBopDataset(const std::filesystem::path &root, const BopCamera &camera,

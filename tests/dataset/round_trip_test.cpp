@@ -396,5 +396,17 @@ TEST_F(RoundTrip, WholeDataset)
 			ASSERT_FLOAT_EQ(mm->at(x, y), static_cast<float>(raw.at(x, y) * 0.1));
 }
 
+// modelPath's inverse, as `ihf train` names a model's object; anything but
+// "obj_" and digits is no id.
+TEST(ModelObjId, InvertsModelPathAndRejectsOtherNames)
+{
+	EXPECT_EQ(modelObjId("obj_000005"), 5);
+	EXPECT_EQ(modelObjId("obj_12"), 12);
+	EXPECT_EQ(modelObjId("obj_000000"), 0);
+	for (const char *bad : {"obj_", "obj_-5", "obj_+5", "obj_5a", "obj_5.ply", "bunny", "xobj_5",
+				"obj_99999999999"})
+		EXPECT_EQ(modelObjId(bad), std::nullopt) << bad;
+}
+
 } // namespace
 } // namespace ihf
