@@ -16,6 +16,7 @@
 #include "firmware_app/command.h"
 #include "firmware_app/estimate_stats.h"
 #include "firmware_app/pipeline_config.h"
+#include "firmware_app/warm_up_note.h"
 
 namespace ihf::app {
 
@@ -243,9 +244,10 @@ int runEstimate(const EstimateOptions &o)
 		if (s.estimator.frameBudgetMs > 0 && !warmedUp) {
 			warmedUp = true;
 			for (const auto &[id, model] : models)
-				if (Status st = estimator.warmUp(*model, K, s.estimator); !st)
-					std::fprintf(stderr, "ihf estimate: warm-up of object %d: %s (its first box may overrun)\n",
-						     id, std::string(st.error().message.view()).c_str());
+				if (const std::string note = warmUpNote(id, estimator.warmUp(*model, K, s.estimator),
+									     s.estimator.frameBudgetMs);
+				    !note.empty())
+					std::fprintf(stderr, "ihf estimate: %s\n", note.c_str());
 		}
 
 		std::vector<ResultRow> imageRows;

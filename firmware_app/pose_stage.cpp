@@ -5,6 +5,8 @@
 #include <cmath>
 #include <string>
 
+#include "firmware_app/warm_up_note.h"
+
 namespace ihf::app {
 
 PoseStage::PoseStage(std::map<int, const ObjectModel *> models, PoseEstimator &estimator,
@@ -26,9 +28,10 @@ Status PoseStage::prepare(const SourceInfo &info)
 	// measurement, not taken as free: one synthetic box per object now.
 	if (config_.frameBudgetMs > 0)
 		for (const auto &[id, model] : models_)
-			if (Status st = estimator_.warmUp(*model, k, config_); !st)
-				std::fprintf(stderr, "ihf run: warm-up of object %d: %s (its first box may overrun)\n", id,
-					     std::string(st.error().message.view()).c_str());
+			if (const std::string note = warmUpNote(id, estimator_.warmUp(*model, k, config_),
+								config_.frameBudgetMs);
+			    !note.empty())
+				std::fprintf(stderr, "ihf run: %s\n", note.c_str());
 	return {};
 }
 

@@ -893,7 +893,8 @@ void PoseEstimator::maskToRange(float lo, float hi, std::span<float> out) const
 	}
 }
 
-Status PoseEstimator::warmUp(const ObjectModel &model, const CameraIntrinsics &K, const EstimatorConfig &config)
+Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const CameraIntrinsics &K,
+					    const EstimatorConfig &config)
 {
 	if (!valid_)
 		return makeError(Errc::kCapacity, "estimator has no memory (arena allocation failed)");
@@ -939,13 +940,21 @@ Status PoseEstimator::warmUp(const ObjectModel &model, const CameraIntrinsics &K
 	endFrame();
 	observer_ = observer;
 
+	WarmUpCost cost;
+	const auto &stages = timer_.counters();
+	int64_t registrationNs = 0;
+	for (int i = static_cast<int>(Stage::kCrop); i <= static_cast<int>(Stage::kScore); ++i)
+		registrationNs += stages[static_cast<size_t>(i)].totalNs;
+	cost.registrationMs = static_cast<double>(registrationNs) * 1e-6;
+	cost.boxMs = static_cast<double>(budget_.worstFrameNs()) * 1e-6;
+
 	timer_.reset();
 	budget_ = FrameBudget{};
 	iterationsRun_ = budgetStops_ = icpSkipped_ = 0;
 	peaks_ = {};
 	if (!e.found)
 		return makeError(Errc::kNoPose, std::string("warm-up box gave no pose: ") + e.reason);
-	return {};
+	return cost;
 }
 
 namespace {

@@ -215,6 +215,14 @@ struct PoseEstimate {
 	bool icpSkipped = false;    // ICP left out by the frame budget
 };
 
+// What the warm-up box cost on the estimator's clock. The initial
+// registration (crop to the scored vote modes) runs in every box whatever
+// the budget: a frame shorter than it overruns.
+struct WarmUpCost {
+	double registrationMs = 0;
+	double boxMs = 0; // the whole box, view search and polish included
+};
+
 class PoseEstimator
 {
 public:
@@ -251,8 +259,9 @@ public:
 	// the cost averages and the arena's high-water mark keep it. The object
 	// spans most of the largest window (EstimatorLimits::maxWindowPixels),
 	// so the first predictions err on the safe, high side. Allocates a
-	// K-sized image: not for the frame path.
-	Status warmUp(const ObjectModel &model, const CameraIntrinsics &K, const EstimatorConfig &config);
+	// K-sized image: not for the frame path. Returns what the box cost.
+	Expected<WarmUpCost> warmUp(const ObjectModel &model, const CameraIntrinsics &K,
+				    const EstimatorConfig &config);
 
 	// Hypotheses are reported to the observer (nullptr: none). Not owned.
 	void setObserver(EstimateObserver *observer) { observer_ = observer; }

@@ -501,7 +501,12 @@ TEST_F(EstimatorBudget, WarmUpMeasuresEveryStageBeforeTheFirstFrame)
 
 	test::StepClock clock(kMs);
 	PoseEstimator e({}, &clock);
-	ASSERT_TRUE(e.warmUp(*model_->model, test::kKinect, c).ok());
+	const Expected<WarmUpCost> cost = e.warmUp(*model_->model, test::kKinect, c);
+	ASSERT_TRUE(cost.ok()) << cost.error().message.view();
+	// Each of the registration's stages reads the clock at least once; the
+	// polish (and the view search) come after it.
+	EXPECT_GE(cost->registrationMs, 8.0);
+	EXPECT_LT(cost->registrationMs, cost->boxMs);
 	EstimatorStats w = e.stats();
 	EXPECT_EQ(w.frames, 0u);
 	EXPECT_EQ(w.boxes, 0u);
