@@ -53,11 +53,13 @@ void printEstimateStats(std::FILE *out, const EstimateRunSummary &sum)
 		std::fprintf(out, "ihf estimate: no frame budget: ");
 	std::fprintf(out,
 		     "%llu frames, %llu boxes, %llu refinement iterations, %llu boxes cut short, "
-		     "%llu ICP skipped, %llu frame overruns, %llu box overruns, worst frame %.1f ms\n",
+		     "%llu ICP skipped, %llu frame overruns, %llu box overruns (%llu already in the initial "
+		     "registration), worst frame %.1f ms\n",
 		     static_cast<unsigned long long>(s.frames), static_cast<unsigned long long>(s.boxes),
 		     static_cast<unsigned long long>(s.iterations), static_cast<unsigned long long>(s.budgetStops),
 		     static_cast<unsigned long long>(s.icpSkipped), static_cast<unsigned long long>(s.frameOverruns),
-		     static_cast<unsigned long long>(s.boxOverruns), ms(s.worstFrameNs));
+		     static_cast<unsigned long long>(s.boxOverruns),
+		     static_cast<unsigned long long>(s.registrationOverruns), ms(s.worstFrameNs));
 	std::fprintf(out,
 		     "ihf estimate: arena used %zu bytes (%.1f MiB) of %zu (%.1f MiB); persistent %zu (%.1f MiB)\n",
 		     s.arenaHighWater, mib(s.arenaHighWater), s.arenaCapacity, mib(s.arenaCapacity),
@@ -96,6 +98,7 @@ std::string estimateStatsJson(const EstimateRunSummary &sum)
 		       {"icp_skipped", s.icpSkipped},
 		       {"frame_overruns", s.frameOverruns},
 		       {"box_overruns", s.boxOverruns},
+		       {"registration_overruns", s.registrationOverruns},
 		       {"worst_frame_ms", ms(s.worstFrameNs)}};
 	j["arena"] = {{"capacity_bytes", s.arenaCapacity},
 		      {"persistent_bytes", s.arenaPersistent},

@@ -33,6 +33,9 @@ struct EstimatorStats {
 	uint64_t icpSkipped = 0;          // ICP polishes skipped for want of time
 	uint64_t frameOverruns = 0;       // frames that ended past their budget
 	uint64_t boxOverruns = 0;         // boxes that ended past their share
+	uint64_t registrationOverruns = 0; // of those, past it at the end of the initial
+	                                   // registration already (never cut short: the
+	                                   // frame is shorter than it)
 	int64_t worstFrameNs = 0;
 
 	size_t arenaCapacity = 0;

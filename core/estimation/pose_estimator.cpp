@@ -231,6 +231,7 @@ EstimatorStats PoseEstimator::stats() const
 	s.iterations = iterationsRun_;
 	s.budgetStops = budgetStops_;
 	s.icpSkipped = icpSkipped_;
+	s.registrationOverruns = registrationOverruns_;
 	s.frameOverruns = budget_.frameOverruns();
 	s.boxOverruns = budget_.boxOverruns();
 	s.worstFrameNs = budget_.worstFrameNs();
@@ -950,7 +951,7 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 
 	timer_.reset();
 	budget_ = FrameBudget{};
-	iterationsRun_ = budgetStops_ = icpSkipped_ = 0;
+	iterationsRun_ = budgetStops_ = icpSkipped_ = registrationOverruns_ = 0;
 	peaks_ = {};
 	if (!e.found)
 		return makeError(Errc::kNoPose, std::string("warm-up box gave no pose: ") + e.reason);
@@ -1110,6 +1111,9 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		// over-estimate of one refinement, which keeps the budget safe.
 		costs_.observe(iterationStart, timer_.totals());
 		iterationsRun_ += k > 0;
+		// The last lap's time: a new clock read would move a step clock.
+		if (k == 0 && !budget_.unlimited() && timer_.last() > budget_.boxDeadline())
+			++registrationOverruns_;
 		if (!iterBest.valid)
 			break;
 		out.iterationsDone = k;

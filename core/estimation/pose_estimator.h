@@ -403,7 +403,7 @@ private:
 	// it; the warm-up's box is the largest one.
 	double boxWork_ = 1.0;
 	FrameBudget budget_;
-	uint64_t iterationsRun_ = 0, budgetStops_ = 0, icpSkipped_ = 0;
+	uint64_t iterationsRun_ = 0, budgetStops_ = 0, icpSkipped_ = 0, registrationOverruns_ = 0;
 	bool boxCut_ = false; // the budget refused a stage of the current box
 	EstimatorPeaks peaks_;
 

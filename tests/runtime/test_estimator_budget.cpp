@@ -565,6 +565,27 @@ TEST_F(EstimatorBudget, ThePolishIsPredictedForEachBoxFromItsDepthPixels)
 	}
 }
 
+// The initial registration is never cut short: a frame shorter than it
+// overruns, and the stats count that box apart from one whose later stages
+// ran over.
+TEST_F(EstimatorBudget, ARegistrationLongerThanTheFrameIsCountedApart)
+{
+	EstimatorConfig c = config(0, 0.0f, true);
+	c.halfTurns.candidates = 0;
+	const auto [before, icp] = polishCost(c);
+	c.frameBudgetMs = 2.0f; // the registration reads the clock more often than this
+	auto [r, s] = runFresh(c);
+	ASSERT_TRUE(r.found) << r.reason;
+	EXPECT_EQ(s.boxOverruns, 1u);
+	EXPECT_EQ(s.registrationOverruns, 1u);
+	// Room for everything: no overrun of either kind.
+	c.frameBudgetMs = static_cast<float>((before + 2 * icp) / kMs);
+	std::tie(r, s) = runFresh(c);
+	ASSERT_TRUE(r.found) << r.reason;
+	EXPECT_EQ(s.boxOverruns, 0u);
+	EXPECT_EQ(s.registrationOverruns, 0u);
+}
+
 TEST_F(EstimatorBudget, WarmUpSaysWhatIsWrong)
 {
 	test::StepClock clock(kMs);
