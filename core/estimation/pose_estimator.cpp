@@ -154,7 +154,9 @@ PoseEstimator::BoxScope::BoxScope(PoseEstimator &e, const EstimatorConfig &confi
 {
 	if (ownFrame_)
 		e_.beginFrame(1, config.frameBudgetMs);
-	e_.budget_.beginBox(e_.timer_.start());
+	e_.boxStartNs_ = e_.timer_.start();
+	e_.registrationNs_ = 0; // until this box's registration ends
+	e_.budget_.beginBox(e_.boxStartNs_);
 	e_.boxCut_ = false;
 }
 
@@ -942,11 +944,7 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 	observer_ = observer;
 
 	WarmUpCost cost;
-	const auto &stages = timer_.counters();
-	int64_t registrationNs = 0;
-	for (int i = static_cast<int>(Stage::kCrop); i <= static_cast<int>(Stage::kScore); ++i)
-		registrationNs += stages[static_cast<size_t>(i)].totalNs;
-	cost.registrationMs = static_cast<double>(registrationNs) * 1e-6;
+	cost.registrationMs = static_cast<double>(registrationNs_) * 1e-6;
 	cost.boxMs = static_cast<double>(budget_.worstFrameNs()) * 1e-6;
 
 	timer_.reset();
@@ -1111,9 +1109,13 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		// over-estimate of one refinement, which keeps the budget safe.
 		costs_.observe(iterationStart, timer_.totals());
 		iterationsRun_ += k > 0;
-		// The last lap's time: a new clock read would move a step clock.
-		if (k == 0 && !budget_.unlimited() && timer_.last() > budget_.boxDeadline())
-			++registrationOverruns_;
+		// The registration's end is the last lap's time: a new clock read
+		// would move a step clock.
+		if (k == 0) {
+			registrationNs_ = timer_.last() - boxStartNs_;
+			if (!budget_.unlimited() && timer_.last() > budget_.boxDeadline())
+				++registrationOverruns_;
+		}
 		if (!iterBest.valid)
 			break;
 		out.iterationsDone = k;

@@ -216,8 +216,9 @@ struct PoseEstimate {
 };
 
 // What the warm-up box cost on the estimator's clock. The initial
-// registration (crop to the scored vote modes) runs in every box whatever
-// the budget: a frame shorter than it overruns.
+// registration (from the box's start to its scored vote modes, the span
+// `registrationOverruns` checks) runs in every box whatever the budget: a
+// frame shorter than it overruns.
 struct WarmUpCost {
 	double registrationMs = 0;
 	double boxMs = 0; // the whole box, view search and polish included
@@ -404,6 +405,9 @@ private:
 	double boxWork_ = 1.0;
 	FrameBudget budget_;
 	uint64_t iterationsRun_ = 0, budgetStops_ = 0, icpSkipped_ = 0, registrationOverruns_ = 0;
+	// The current box's start and its initial registration's length (box
+	// start to the end of the k = 0 pass), as the budget sees them.
+	int64_t boxStartNs_ = 0, registrationNs_ = 0;
 	bool boxCut_ = false; // the budget refused a stage of the current box
 	EstimatorPeaks peaks_;
 
