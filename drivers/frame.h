@@ -15,7 +15,9 @@ namespace ihf {
 struct Frame {
 	uint64_t index = 0; // the sensor's frame counter; gaps mean dropped frames
 	int64_t deviceTimestampNs = 0; // device clock (0 if the device has none)
-	int64_t hostTimestampNs = 0; // host steady clock when the frame arrived
+	// Host steady clock when the frame arrived; files: the recording's time
+	// (a .rec's recorded host time, a .oni's device time: it keeps no other).
+	int64_t hostTimestampNs = 0;
 	CameraIntrinsics intrinsics;
 	double depthScale = 1.0; // raw depth * depthScale = millimetres
 	ImageView<const uint16_t> depth; // raw depth, 0 = no measurement

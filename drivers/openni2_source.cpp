@@ -60,7 +60,8 @@ Expected<std::vector<std::string>> listOpenNi2Devices()
 }
 
 OpenNi2Source::OpenNi2Source(std::string deviceUri, OpenNi2SourceOptions options, std::string uri)
-	: deviceUri_(std::move(deviceUri)), options_(std::move(options))
+	: deviceUri_(std::move(deviceUri)), options_(std::move(options)),
+	  clock_(options_.clock ? options_.clock : &steadyClock_)
 {
 	info_.uri = uri.empty() ? "openni2:" + deviceUri_ : std::move(uri);
 }
@@ -96,6 +97,8 @@ Status OpenNi2Source::open()
 		return e;
 	};
 
+	if (options_.realTime && !(options_.speed > 0 && std::isfinite(options_.speed)))
+		return fail(Errc::kInvalidArgument, "playback speed must be > 0");
 	if (openni::OpenNI::initialize() != openni::STATUS_OK)
 		return fail(Errc::kIo, "OpenNI2 initialisation failed");
 	state_->initialised = true;
@@ -114,9 +117,12 @@ Status OpenNi2Source::open()
 		openni::PlaybackControl *playback = state_->device.getPlaybackControl();
 		if (!playback)
 			return fail(Errc::kIo, "file device without playback control");
-		// -1 is OpenNI2's manual speed: the next frame is produced on request.
-		if (playback->setSpeed(options_.realTime ? 1.0f : -1.0f) != openni::STATUS_OK ||
-		    playback->setRepeatEnabled(false) != openni::STATUS_OK)
+		// -1 is OpenNI2's manual speed: the next frame is produced on request
+		// (see the header for why realTime paces it here). With repeat on,
+		// after the last frame the player rewinds and waits for a request
+		// that never comes; with it off it would spin until closed.
+		if (playback->setSpeed(-1.0f) != openni::STATUS_OK ||
+		    playback->setRepeatEnabled(true) != openni::STATUS_OK)
 			return fail(Errc::kIo, "cannot set playback speed / repeat");
 		fileFrames_ = playback->getNumberOfFrames(state_->stream);
 	}
@@ -160,6 +166,8 @@ Status OpenNi2Source::open()
 	counters_ = {};
 	fileFramesRead_ = 0;
 	lastIndex_.reset();
+	pending_ = false;
+	anchored_ = false;
 	return {};
 }
 
@@ -172,6 +180,7 @@ Status OpenNi2Source::start()
 		buffer_ = Image<uint16_t>(k.width, k.height);
 	if (state_->stream.start() != openni::STATUS_OK)
 		return makeError(Errc::kIo, info_.uri + ": " + oniError("cannot start the depth stream"));
+	anchored_ = false; // pacing restarts at the next frame
 	started_ = true;
 	return {};
 }
@@ -187,9 +196,48 @@ Expected<FrameOutcome> OpenNi2Source::next(Frame &frame, std::chrono::nanosecond
 {
 	if (!started_)
 		return makeError(Errc::kInvalidArgument, info_.uri + ": next() before start()");
-	if (state_->isFile && fileFramesRead_ >= fileFrames_)
-		return FrameOutcome::kEndOfStream;
+	if (!pending_) {
+		if (state_->isFile && fileFramesRead_ >= fileFrames_)
+			return FrameOutcome::kEndOfStream;
+		Expected<FrameOutcome> read = readFrame(timeout);
+		if (!read || *read != FrameOutcome::kFrame)
+			return read;
+	}
 
+	if (state_->isFile && options_.realTime) {
+		const int64_t now = clock_->nowNs();
+		if (!anchored_) {
+			anchored_ = true;
+			anchorHostNs_ = now;
+			anchorStampNs_ = pendingDeviceNs_;
+		}
+		const int64_t due = anchorHostNs_ + static_cast<int64_t>(std::llround(
+			static_cast<double>(pendingDeviceNs_ - anchorStampNs_) / options_.speed));
+		if (due > now + timeout.count()) {
+			clock_->sleepUntil(now + timeout.count());
+			++counters_.timeouts;
+			return FrameOutcome::kTimeout;
+		}
+		clock_->sleepUntil(due);
+	}
+
+	pending_ = false;
+	frame.index = pendingIndex_;
+	frame.deviceTimestampNs = pendingDeviceNs_;
+	frame.hostTimestampNs = pendingHostNs_;
+	frame.intrinsics = info_.intrinsics;
+	frame.depthScale = info_.depthScale;
+	frame.depth = buffer_.view();
+	if (lastIndex_ && frame.index > *lastIndex_ + 1)
+		counters_.dropped += frame.index - *lastIndex_ - 1;
+	lastIndex_ = frame.index;
+	++counters_.delivered;
+	return FrameOutcome::kFrame;
+}
+
+// Waits for OpenNI2's next frame and copies it into buffer_ as the pending one.
+Expected<FrameOutcome> OpenNi2Source::readFrame(std::chrono::nanoseconds timeout)
+{
 	openni::VideoStream *streams[] = {&state_->stream};
 	int ready = -1;
 	const auto ms = std::chrono::ceil<std::chrono::milliseconds>(timeout).count();
@@ -205,6 +253,13 @@ Expected<FrameOutcome> OpenNi2Source::next(Frame &frame, std::chrono::nanosecond
 	openni::VideoFrameRef ref;
 	if (state_->stream.readFrame(&ref) != openni::STATUS_OK || !ref.isValid())
 		return makeError(Errc::kIo, info_.uri + ": " + oniError("reading a depth frame failed (device removed?)"));
+	const auto index = static_cast<uint64_t>(ref.getFrameIndex());
+	// The player rewound (repeat is on, see open()): a frame went missing
+	// and the pass is over.
+	if (state_->isFile && lastIndex_ && index <= *lastIndex_) {
+		fileFramesRead_ = fileFrames_;
+		return FrameOutcome::kEndOfStream;
+	}
 	const int w = buffer_.width(), h = buffer_.height();
 	if (ref.getWidth() != w || ref.getHeight() != h)
 		return makeError(Errc::kUnsupported, info_.uri + ": frame size changed while streaming");
@@ -214,19 +269,13 @@ Expected<FrameOutcome> OpenNi2Source::next(Frame &frame, std::chrono::nanosecond
 		return makeError(Errc::kCorrupt, info_.uri + ": frame data is smaller than its size says");
 	for (int y = 0; y < h; ++y)
 		std::memcpy(buffer_.view().row(y), bytes + static_cast<size_t>(y) * stride, w * 2);
-
-	SteadyPacingClock clock;
-	frame.index = static_cast<uint64_t>(ref.getFrameIndex());
-	frame.deviceTimestampNs = static_cast<int64_t>(ref.getTimestamp()) * 1000;
-	frame.hostTimestampNs = clock.nowNs();
-	frame.intrinsics = info_.intrinsics;
-	frame.depthScale = info_.depthScale;
-	frame.depth = buffer_.view();
-	if (lastIndex_ && frame.index > *lastIndex_ + 1)
-		counters_.dropped += frame.index - *lastIndex_ - 1;
-	lastIndex_ = frame.index;
+	pendingIndex_ = index;
+	pendingDeviceNs_ = static_cast<int64_t>(ref.getTimestamp()) * 1000;
+	// A .oni keeps no host time: its device time stands for the recording's,
+	// as a .rec's recorded host time does (ihf run paces and drops by it).
+	pendingHostNs_ = state_->isFile ? pendingDeviceNs_ : clock_->nowNs();
+	pending_ = true;
 	++fileFramesRead_;
-	++counters_.delivered;
 	return FrameOutcome::kFrame;
 }
 

@@ -2,10 +2,15 @@
 #pragma once
 
 // Depth from OpenNI2 (libOpenNI2): a device (by URI, or the first one found)
-// or a .oni file. Files play in step mode by default (OpenNI2's "manual"
-// speed: a frame is produced when we ask for one, none is skipped) with
-// repeat off, so the stream ends after the last frame; realTime plays them
-// at recorded speed instead.
+// or a .oni file. Files are always stepped through (OpenNI2's "manual" speed:
+// a frame is produced when we ask for one, none is skipped) and the stream
+// ends after one pass. realTime paces that step on a PacingClock by the
+// frames' device timestamps, as a .rec replays: every frame, each no earlier
+// than its time (a slow reader gets them late, not fewer). OpenNI2's own
+// timed playback is not used: it drops frames a busy reader misses,
+// nondeterministically, and its player thread then spins at the end of the
+// file, racing the stream's destruction (a crash seen about once in 40
+// closes under load); stepped with repeat on, that thread waits instead.
 //
 // OpenNI2 reports the field of view, not a calibration: intrinsics are
 // derived from it with the principal point at the image centre unless the
@@ -20,12 +25,15 @@
 #include <string>
 #include <vector>
 
+#include "drivers/clock.h"
 #include "drivers/frame_source.h"
 
 namespace ihf {
 
 struct OpenNi2SourceOptions {
-	bool realTime = false; // files only: recorded speed instead of stepping
+	bool realTime = false; // files only: paced at recorded speed instead of stepping
+	double speed = 1.0; // realTime only: 2 = twice as fast
+	PacingClock *clock = nullptr; // realTime only; null = the host steady clock
 	std::optional<CameraIntrinsics> intrinsics; // calibration overriding the FOV model
 };
 
@@ -71,9 +79,12 @@ public:
 private:
 	struct State; // OpenNI2 objects, kept out of this header
 	void close();
+	Expected<FrameOutcome> readFrame(std::chrono::nanoseconds timeout);
 
 	std::string deviceUri_;
 	OpenNi2SourceOptions options_;
+	SteadyPacingClock steadyClock_;
+	PacingClock *clock_;
 	SourceInfo info_;
 	SourceCounters counters_;
 	std::unique_ptr<State> state_;
@@ -81,6 +92,14 @@ private:
 	int fileFrames_ = 0;
 	int fileFramesRead_ = 0;
 	std::optional<uint64_t> lastIndex_;
+	// A file frame read but not yet due (realTime) waits in buffer_.
+	bool pending_ = false;
+	uint64_t pendingIndex_ = 0;
+	int64_t pendingDeviceNs_ = 0;
+	int64_t pendingHostNs_ = 0;
+	bool anchored_ = false;
+	int64_t anchorHostNs_ = 0;
+	int64_t anchorStampNs_ = 0;
 	bool started_ = false;
 };
 

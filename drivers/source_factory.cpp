@@ -49,6 +49,8 @@ Expected<std::unique_ptr<FrameSource>> makeFrameSource(const std::string &uri,
 #ifdef IHF_HAVE_OPENNI2
 		OpenNi2SourceOptions o;
 		o.realTime = options.pacing == Pacing::kRealTime;
+		o.speed = options.speed;
+		o.clock = options.clock;
 		o.intrinsics = options.intrinsics;
 		return std::unique_ptr<FrameSource>(std::make_unique<OpenNi2Source>(rest, o, uri));
 #else

@@ -24,8 +24,8 @@ namespace ihf {
 
 struct SourceOptions {
 	Pacing pacing = Pacing::kStep; // files: step, or real time
-	double speed = 1.0; // recordings in real time
-	PacingClock *clock = nullptr; // recordings in real time; null = steady clock
+	double speed = 1.0; // files (.rec, .oni) in real time
+	PacingClock *clock = nullptr; // files in real time; null = steady clock
 	std::optional<CameraIntrinsics> intrinsics; // OpenNI2: calibration to use
 };
 

@@ -212,6 +212,70 @@ TEST_F(OpenNi2RoundTrip, OniRecordingPlaysBackBitIdentical)
 	EXPECT_EQ(*end, FrameOutcome::kEndOfStream);
 }
 
+// Simulated time: sleeping moves "now" forward.
+class SimClock : public PacingClock
+{
+public:
+	int64_t nowNs() override { return now; }
+	void sleepUntil(int64_t deadlineNs) override { now = std::max(now, deadlineNs); }
+	int64_t now = 5'000'000'000;
+};
+
+// At recorded speed the file is paced by its device timestamps on the given
+// clock, as a .rec replays: a frame not due within the timeout is a timeout
+// (and comes on the next call), a reader that falls behind still gets every
+// frame, and the stream ends after one pass.
+TEST_F(OpenNi2RoundTrip, RealTimePlaybackPacesEveryFrameOnTheInjectedClock)
+{
+	const fs::path oni = dir_ / "capture.oni";
+	recordToOni(rec_, oni, stream_);
+	SimClock clock;
+	OpenNi2SourceOptions realTime;
+	realTime.realTime = true;
+	realTime.clock = &clock;
+	OpenNi2Source paced(oni.string(), realTime);
+	ASSERT_TRUE(paced.open().ok());
+	ASSERT_TRUE(paced.start().ok());
+	const int64_t t0 = clock.now;
+	Frame f;
+	auto r = paced.next(f, 2s);
+	ASSERT_TRUE(r.ok()) << r.error().message;
+	ASSERT_EQ(*r, FrameOutcome::kFrame);
+	EXPECT_EQ(f.index, 1u);
+	EXPECT_EQ(clock.now, t0); // the first frame anchors the pacing
+
+	// Frame 2 is due 33.333 ms later: a 10 ms wait times out.
+	r = paced.next(f, 10ms);
+	ASSERT_TRUE(r.ok());
+	EXPECT_EQ(*r, FrameOutcome::kTimeout);
+	EXPECT_EQ(clock.now, t0 + 10'000'000);
+	EXPECT_EQ(paced.counters().timeouts, 1u);
+	r = paced.next(f, 2s);
+	ASSERT_TRUE(r.ok());
+	ASSERT_EQ(*r, FrameOutcome::kFrame);
+	EXPECT_EQ(f.index, 2u);
+	EXPECT_EQ(clock.now, t0 + (stream_.deviceNs[1] - stream_.deviceNs[0]));
+	// A .oni keeps no host time: the recording's (device) time stands for it.
+	EXPECT_EQ(f.hostTimestampNs, f.deviceTimestampNs);
+	EXPECT_EQ(depthDifference(f.depth, stream_.frames[1]), "");
+
+	// The reader is busy past the last frame's time: the rest come at once, all of them.
+	clock.now = t0 + 1'000'000'000;
+	for (size_t i = 2; i < stream_.frames.size(); ++i) {
+		r = paced.next(f, 2s);
+		ASSERT_TRUE(r.ok()) << r.error().message;
+		ASSERT_EQ(*r, FrameOutcome::kFrame) << "frame " << i;
+		EXPECT_EQ(f.index, stream_.indices[i]);
+		EXPECT_EQ(depthDifference(f.depth, stream_.frames[i]), "") << "frame " << i;
+	}
+	EXPECT_EQ(clock.now, t0 + 1'000'000'000);
+	r = paced.next(f, 2s);
+	ASSERT_TRUE(r.ok());
+	EXPECT_EQ(*r, FrameOutcome::kEndOfStream);
+	EXPECT_EQ(paced.counters().delivered, 8u);
+	EXPECT_EQ(paced.counters().dropped, 0u);
+}
+
 TEST_F(OpenNi2RoundTrip, IhfRecordConvertsOniToRecBitIdentical)
 {
 	const fs::path oni = dir_ / "capture.oni";
