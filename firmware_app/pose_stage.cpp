@@ -129,6 +129,20 @@ void PoseStage::describe(std::string &line) const
 		      static_cast<unsigned long long>(counters_.unknownObject),
 		      static_cast<unsigned long long>(counters_.inputErrors));
 	line += buf;
+	if (config_.frameBudgetMs > 0) {
+		// What the device's frame budget cost: the same counts as ihf estimate's.
+		const EstimatorStats st = estimator_.stats();
+		std::snprintf(buf, sizeof(buf),
+			      "; budget %g ms: overruns %llu frames %llu boxes (%llu in the initial registration)"
+			      " cut-short %llu iterations %llu worst-frame %.1f ms",
+			      static_cast<double>(config_.frameBudgetMs),
+			      static_cast<unsigned long long>(st.frameOverruns),
+			      static_cast<unsigned long long>(st.boxOverruns),
+			      static_cast<unsigned long long>(st.registrationOverruns),
+			      static_cast<unsigned long long>(st.budgetStops),
+			      static_cast<unsigned long long>(st.iterations), st.worstFrameNs * 1e-6);
+		line += buf;
+	}
 	const size_t n = std::min(latencyCount_, latencies_.size());
 	if (n) {
 		std::vector<double> v(latencies_.begin(), latencies_.begin() + n);

@@ -17,7 +17,7 @@ std::string warmUpNote(int objId, const Expected<WarmUpCost> &cost, float frameB
 		return {};
 	std::snprintf(line, sizeof(line),
 		      "warm-up of object %d: its initial registration took %.1f ms on the largest box, more than "
-		      "the %.1f ms frame budget; boxes that large will overrun (the registration is never cut short)",
+		      "the %g ms frame budget; boxes that large will overrun (the registration is never cut short)",
 		      objId, cost->registrationMs, static_cast<double>(frameBudgetMs));
 	return line;
 }

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstring>
 #include <map>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -380,14 +381,25 @@ TEST_F(RunReplay, EstimationBudgetFromTheCommandLine)
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	const RunOutput tight = readRunOutput(d / "tight.jsonl");
 	ASSERT_FALSE(tight.poses.empty());
+	std::set<int64_t> frames;
 	for (const auto &[key, pose] : tight.poses) {
 		EXPECT_EQ(pose["iterations"].get<int>(), 0) << pose.dump();
 		EXPECT_FALSE(pose["icp"].get<bool>()) << pose.dump();
+		frames.insert(key.frame);
 	}
+	// The stats line says what the budget cost: every frame and box overran,
+	// already in the initial registration (never cut short), and every box's
+	// refinement was cut.
+	const std::string n = std::to_string(tight.poses.size());
+	EXPECT_NE(r.output.find("budget 0.001 ms: overruns " + std::to_string(frames.size()) + " frames " + n +
+				" boxes (" + n + " in the initial registration) cut-short " + n + " iterations 0"),
+		  std::string::npos)
+		<< r.output;
 
 	r = runIhf("run --config " + q(d / "device.toml") + " --budget-ms 0 --out file:" + q(d / "free.jsonl"));
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	const auto expected = estimateRows(d / "est.csv");
+	EXPECT_EQ(r.output.find("budget "), std::string::npos) << r.output; // none to report
 	const RunOutput free = readRunOutput(d / "free.jsonl");
 	ASSERT_EQ(free.poses.size(), expected.size());
 	for (const auto &[key, row] : expected) {

@@ -22,7 +22,7 @@ TEST(WarmUpNote, AFrameShorterThanTheRegistrationIsSaid)
 	const std::string note = warmUpNote(20, cost, 10.0f);
 	EXPECT_TRUE(has(note, "object 20")) << note;
 	EXPECT_TRUE(has(note, "12.3 ms")) << note;
-	EXPECT_TRUE(has(note, "10.0 ms frame budget")) << note;
+	EXPECT_TRUE(has(note, "10 ms frame budget")) << note;
 	EXPECT_TRUE(has(note, "overrun")) << note;
 	EXPECT_EQ(warmUpNote(20, cost, 12.5f), "") << "the registration fits; the rest is cut to the frame";
 	EXPECT_EQ(warmUpNote(20, cost, 0.0f), "") << "no budget";
