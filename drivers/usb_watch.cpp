@@ -121,8 +121,10 @@ Expected<std::vector<UsbDeviceEntry>> LibusbEnumerator::list()
 		uint8_t ports[8];
 		const int np = libusb_get_port_numbers(devices[i], ports, 8);
 		e.port = std::to_string(e.bus);
-		for (int k = 0; k < np; ++k)
-			e.port += (k == 0 ? "-" : ".") + std::to_string(ports[k]);
+		for (int k = 0; k < np; ++k) {
+			e.port += k == 0 ? '-' : '.';
+			e.port += std::to_string(ports[k]);
+		}
 		out.push_back(std::move(e));
 	}
 	libusb_free_device_list(devices, 1);

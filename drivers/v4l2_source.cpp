@@ -153,7 +153,9 @@ std::vector<V4l2NodeInfo> listV4l2Nodes()
 						break;
 					n.z16 |= d.pixelformat == V4L2_PIX_FMT_Z16;
 					n.y16 |= d.pixelformat == V4L2_PIX_FMT_Y16;
-					n.formats += (n.formats.empty() ? "" : ",") + fourccText(d.pixelformat);
+					if (!n.formats.empty())
+						n.formats += ',';
+					n.formats += fourccText(d.pixelformat);
 				}
 				nodes.push_back(std::move(n));
 			}

@@ -66,7 +66,7 @@ RunOutput readRunOutput(const fs::path &file)
 	return out;
 }
 
-std::string q(const fs::path &p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path &p) { return std::string("'").append(p.string()).append("'"); }
 
 class RunReplay : public ::testing::Test
 {

@@ -10,7 +10,8 @@ namespace ihf::test {
 CommandResult runIhf(const std::string &args)
 {
 	CommandResult result;
-	std::string cmd = "'" + ihfBinary().string() + "' " + args + " 2>&1";
+	std::string cmd = "'"; // appended: GCC 12 warns falsely on "literal" + string at -O3
+	cmd.append(ihfBinary().string()).append("' ").append(args).append(" 2>&1");
 #ifdef IHF_TEST_EMULATOR
 	cmd = std::string(IHF_TEST_EMULATOR) + " " + cmd;
 #endif

@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 
 std::string q(const fs::path &p)
 {
-	return "'" + p.string() + "'";
+	return std::string("'").append(p.string()).append("'");
 }
 
 class ForestCliTest : public ::testing::Test

@@ -75,8 +75,9 @@ TEST(WorkerPool, AThreadIndexIsNeverInTwoTasksAtOnce)
 		pool.run(16, [&](int, int thread) {
 			if (inside[static_cast<size_t>(thread)].fetch_add(1) != 0)
 				++overlaps;
-			for (volatile int spin = 0; spin < 200; spin = spin + 1) {
-			}
+			[[maybe_unused]] volatile int sink = 0; // a little work the optimiser keeps
+			for (int spin = 0; spin < 200; ++spin)
+				sink = spin;
 			inside[static_cast<size_t>(thread)].fetch_sub(1);
 		});
 	EXPECT_EQ(overlaps.load(), 0);

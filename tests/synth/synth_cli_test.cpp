@@ -20,7 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string models() { return "'" + (test::lmoDir() / "models").string() + "'"; }
+std::string models() { return std::string("'").append((test::lmoDir() / "models").string()).append("'"); }
 
 std::string readAll(const fs::path &p)
 {
