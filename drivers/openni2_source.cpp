@@ -61,7 +61,7 @@ Expected<std::vector<std::string>> listOpenNi2Devices()
 
 OpenNi2Source::OpenNi2Source(std::string deviceUri, OpenNi2SourceOptions options, std::string uri)
 	: deviceUri_(std::move(deviceUri)), options_(std::move(options)),
-	  clock_(options_.clock ? options_.clock : &steadyClock_)
+	  clock_(options_.clock ? options_.clock : &steadyClock_), pacer_(*clock_, options_.speed)
 {
 	info_.uri = uri.empty() ? "openni2:" + deviceUri_ : std::move(uri);
 }
@@ -167,7 +167,7 @@ Status OpenNi2Source::open()
 	fileFramesRead_ = 0;
 	lastIndex_.reset();
 	pending_ = false;
-	anchored_ = false;
+	pacer_.reset();
 	return {};
 }
 
@@ -180,7 +180,7 @@ Status OpenNi2Source::start()
 		buffer_ = Image<uint16_t>(k.width, k.height);
 	if (state_->stream.start() != openni::STATUS_OK)
 		return makeError(Errc::kIo, info_.uri + ": " + oniError("cannot start the depth stream"));
-	anchored_ = false; // pacing restarts at the next frame
+	pacer_.reset(); // pacing restarts at the next frame
 	started_ = true;
 	return {};
 }
@@ -204,21 +204,9 @@ Expected<FrameOutcome> OpenNi2Source::next(Frame &frame, std::chrono::nanosecond
 			return read;
 	}
 
-	if (state_->isFile && options_.realTime) {
-		const int64_t now = clock_->nowNs();
-		if (!anchored_) {
-			anchored_ = true;
-			anchorHostNs_ = now;
-			anchorStampNs_ = pendingDeviceNs_;
-		}
-		const int64_t due = anchorHostNs_ + static_cast<int64_t>(std::llround(
-			static_cast<double>(pendingDeviceNs_ - anchorStampNs_) / options_.speed));
-		if (due > now + timeout.count()) {
-			clock_->sleepUntil(now + timeout.count());
-			++counters_.timeouts;
-			return FrameOutcome::kTimeout;
-		}
-		clock_->sleepUntil(due);
+	if (state_->isFile && options_.realTime && !pacer_.waitFor(pendingDeviceNs_, timeout)) {
+		++counters_.timeouts;
+		return FrameOutcome::kTimeout;
 	}
 
 	pending_ = false;

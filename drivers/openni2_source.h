@@ -27,6 +27,7 @@
 
 #include "drivers/clock.h"
 #include "drivers/frame_source.h"
+#include "drivers/replay_pacer.h"
 
 namespace ihf {
 
@@ -85,6 +86,7 @@ private:
 	OpenNi2SourceOptions options_;
 	SteadyPacingClock steadyClock_;
 	PacingClock *clock_;
+	ReplayPacer pacer_;
 	SourceInfo info_;
 	SourceCounters counters_;
 	std::unique_ptr<State> state_;
@@ -97,9 +99,6 @@ private:
 	uint64_t pendingIndex_ = 0;
 	int64_t pendingDeviceNs_ = 0;
 	int64_t pendingHostNs_ = 0;
-	bool anchored_ = false;
-	int64_t anchorHostNs_ = 0;
-	int64_t anchorStampNs_ = 0;
 	bool started_ = false;
 };
 

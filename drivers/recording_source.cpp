@@ -8,7 +8,7 @@ namespace ihf {
 RecordingSource::RecordingSource(std::filesystem::path file, RecordingSourceOptions options,
 				 std::string uri)
 	: file_(std::move(file)), options_(options),
-	  clock_(options.clock ? options.clock : &steadyClock_)
+	  pacer_(options.clock ? *options.clock : steadyClock_, options.speed)
 {
 	info_.uri = uri.empty() ? "recording:" + file_.string() : std::move(uri);
 }
@@ -30,7 +30,7 @@ Status RecordingSource::open()
 	position_ = 0;
 	pending_ = false;
 	lastIndex_.reset();
-	anchored_ = false;
+	pacer_.reset();
 	started_ = false;
 	return {};
 }
@@ -42,7 +42,7 @@ Status RecordingSource::start()
 	const CameraIntrinsics &k = info_.intrinsics;
 	if (buffer_.width() != k.width || buffer_.height() != k.height)
 		buffer_ = Image<uint16_t>(k.width, k.height);
-	anchored_ = false;
+	pacer_.reset();
 	started_ = true;
 	return {};
 }
@@ -50,7 +50,7 @@ Status RecordingSource::start()
 void RecordingSource::stop()
 {
 	started_ = false;
-	anchored_ = false;
+	pacer_.reset();
 }
 
 Status RecordingSource::seek(uint64_t frameIndex)
@@ -63,7 +63,7 @@ Status RecordingSource::seek(uint64_t frameIndex)
 							  std::to_string(frameIndex));
 	position_ = *pos;
 	pending_ = false;
-	anchored_ = false; // pacing restarts at the new frame
+	pacer_.reset(); // pacing restarts at the new frame
 	lastIndex_.reset();
 	return {};
 }
@@ -86,21 +86,9 @@ Expected<FrameOutcome> RecordingSource::next(Frame &frame, std::chrono::nanoseco
 			pending_ = true;
 		}
 		const recording::FrameRecord &rec = pendingRecord_;
-		if (options_.pacing == Pacing::kRealTime) {
-			const int64_t now = clock_->nowNs();
-			if (!anchored_) {
-				anchored_ = true;
-				anchorHostNs_ = now;
-				anchorStampNs_ = rec.hostTimestampNs;
-			}
-			const int64_t due = anchorHostNs_ + static_cast<int64_t>(std::llround(
-				static_cast<double>(rec.hostTimestampNs - anchorStampNs_) / options_.speed));
-			if (due > now + timeout.count()) {
-				clock_->sleepUntil(now + timeout.count());
-				++counters_.timeouts;
-				return FrameOutcome::kTimeout;
-			}
-			clock_->sleepUntil(due);
+		if (options_.pacing == Pacing::kRealTime && !pacer_.waitFor(rec.hostTimestampNs, timeout)) {
+			++counters_.timeouts;
+			return FrameOutcome::kTimeout;
 		}
 		pending_ = false;
 		frame.index = rec.index;

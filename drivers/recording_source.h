@@ -17,6 +17,7 @@
 #include "drivers/clock.h"
 #include "drivers/frame_source.h"
 #include "drivers/recording_reader.h"
+#include "drivers/replay_pacer.h"
 
 namespace ihf {
 
@@ -54,7 +55,7 @@ private:
 	std::filesystem::path file_;
 	RecordingSourceOptions options_;
 	SteadyPacingClock steadyClock_;
-	PacingClock *clock_;
+	ReplayPacer pacer_;
 	SourceInfo info_;
 	std::optional<RecordingReader> reader_;
 	Image<uint16_t> buffer_;
@@ -63,10 +64,6 @@ private:
 	bool pending_ = false; // buffer_ holds the frame at position_
 	recording::FrameRecord pendingRecord_;
 	bool started_ = false;
-	// Real-time pacing: host time of the first paced frame and its stamp.
-	bool anchored_ = false;
-	int64_t anchorHostNs_ = 0;
-	int64_t anchorStampNs_ = 0;
 	std::optional<uint64_t> lastIndex_;
 };
 

@@ -25,8 +25,8 @@ const char *runEndName(RunEnd end)
 
 RunLoop::RunLoop(FrameSource &source, FrameProcessor &processor, PacingClock &clock, RunLoopConfig config,
 		 ShutdownSignal *shutdown, std::FILE *log)
-	: source_(source), processor_(processor), clock_(clock), config_(config), shutdown_(shutdown),
-	  log_(log)
+	: source_(source), processor_(processor), clock_(clock), config_(config),
+	  pacer_(clock, config.speed), shutdown_(shutdown), log_(log)
 {
 }
 
@@ -134,7 +134,7 @@ bool RunLoop::openSource()
 		}
 		if (st) {
 			open_ = true;
-			anchored_ = false;
+			pacer_.reset();
 			if (retrying) {
 				++counters_.reopens;
 				std::fprintf(log_, "ihf run: %s reopened\n", source_.info().uri.c_str());
@@ -249,13 +249,7 @@ RunEnd RunLoop::run()
 			arrival = frame.hostTimestampNs;
 			paced = true;
 		} else if (config_.realTime) {
-			if (!anchored_) {
-				anchored_ = true;
-				anchorClockNs_ = now;
-				anchorStampNs_ = frame.hostTimestampNs;
-			}
-			arrival = anchorClockNs_ + static_cast<int64_t>(std::llround(
-				static_cast<double>(frame.hostTimestampNs - anchorStampNs_) / config_.speed));
+			arrival = pacer_.due(frame.hostTimestampNs);
 			paced = true;
 		}
 		if (paced && config_.frameBudget.count() > 0 && now - arrival > config_.frameBudget.count()) {

@@ -23,6 +23,7 @@
 
 #include "drivers/clock.h"
 #include "drivers/frame_source.h"
+#include "drivers/replay_pacer.h"
 #include "firmware_app/shutdown_signal.h"
 
 namespace ihf::app {
@@ -136,13 +137,12 @@ private:
 	FrameProcessor &processor_;
 	PacingClock &clock_;
 	RunLoopConfig config_;
+	ReplayPacer pacer_; // when a paced frame is due (real time)
 	ShutdownSignal *shutdown_;
 	std::FILE *log_;
 	RunCounters counters_;
 	std::string failure_;
 	bool open_ = false;
-	bool anchored_ = false;
-	int64_t anchorClockNs_ = 0, anchorStampNs_ = 0;
 	int64_t startNs_ = 0, lastStatsNs_ = 0;
 	uint64_t statsDelivered_ = 0;
 	int failuresInARow_ = 0;

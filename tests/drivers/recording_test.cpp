@@ -9,6 +9,7 @@
 
 #include "drivers/recording_reader.h"
 #include "drivers/recording_source.h"
+#include "drivers/replay_pacer.h"
 #include "tests/common/test_paths.h"
 #include "tests/drivers/recording_test_util.h"
 
@@ -368,6 +369,28 @@ public:
 	int64_t now = 1'000'000;
 	std::vector<int64_t> sleeps;
 };
+
+// The pacer both file sources and ihf run's loop use: anchored by the first
+// frame after a reset, later frames due by their recorded time / speed.
+TEST(ReplayPacer, AnchorsOnTheFirstFrameAndScalesBySpeed)
+{
+	FakeClock clock;
+	ReplayPacer pacer(clock, 2.0);
+	EXPECT_EQ(pacer.due(7'000'000'000), clock.now); // anchors
+	EXPECT_EQ(pacer.due(7'100'000'000), clock.now + 50'000'000);
+	EXPECT_EQ(pacer.due(6'900'000'000), clock.now - 50'000'000); // an earlier stamp was due earlier
+
+	// Not due within the timeout: sleeps the timeout, the frame stays.
+	EXPECT_FALSE(pacer.waitFor(7'200'000'000, std::chrono::milliseconds(10)));
+	EXPECT_EQ(clock.now, 1'000'000 + 10'000'000);
+	EXPECT_TRUE(pacer.waitFor(7'200'000'000, std::chrono::milliseconds(200)));
+	EXPECT_EQ(clock.now, 1'000'000 + 100'000'000);
+	EXPECT_TRUE(pacer.waitFor(7'000'000'000, std::chrono::milliseconds(0))); // late: at once
+	EXPECT_EQ(clock.now, 1'000'000 + 100'000'000);
+
+	pacer.reset(); // the next frame anchors anew
+	EXPECT_EQ(pacer.due(9'000'000'000), clock.now);
+}
 
 TEST(RecordingPacing, RealTimeFollowsHostTimestampsOnTheInjectedClock)
 {
