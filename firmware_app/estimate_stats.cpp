@@ -48,7 +48,7 @@ void printEstimateStats(std::FILE *out, const EstimateRunSummary &sum)
 			     total > 0 ? 100.0 * static_cast<double>(c.totalNs) / static_cast<double>(total) : 0.0);
 	}
 	if (sum.frameBudgetMs > 0)
-		std::fprintf(out, "ihf estimate: budget %.1f ms per frame: ", sum.frameBudgetMs);
+		std::fprintf(out, "ihf estimate: budget %g ms per frame: ", sum.frameBudgetMs);
 	else
 		std::fprintf(out, "ihf estimate: no frame budget: ");
 	std::fprintf(out,

@@ -148,11 +148,11 @@ TEST_F(EstimateCli, BudgetFromTheConfiguration)
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	// Far too little time: both boxes keep their initial registration, which
 	// alone overran; the warm-up said so before the first frame.
-	EXPECT_NE(r.output.find("budget 0.0 ms per frame: 1 frames, 2 boxes, 0 refinement iterations, 2 boxes cut short, "
+	EXPECT_NE(r.output.find("budget 0.01 ms per frame: 1 frames, 2 boxes, 0 refinement iterations, 2 boxes cut short, "
 				"2 ICP skipped, 1 frame overruns, 2 box overruns (2 already in the initial registration)"),
 		  std::string::npos)
 		<< r.output;
-	EXPECT_NE(r.output.find("more than the 0.0 ms frame budget; boxes that large will overrun"), std::string::npos)
+	EXPECT_NE(r.output.find("more than the 0.01 ms frame budget; boxes that large will overrun"), std::string::npos)
 		<< r.output;
 }
 
