@@ -9,8 +9,8 @@
 // than its time (a slow reader gets them late, not fewer). OpenNI2's own
 // timed playback is not used: it drops frames a busy reader misses,
 // nondeterministically, and its player thread then spins at the end of the
-// file, racing the stream's destruction (a crash seen about once in 40
-// closes under load); stepped with repeat on, that thread waits instead.
+// file, racing the stream's destruction (a crash in 19 of 300 closes under
+// load, BENCHMARKS.md); stepped with repeat on, that thread waits instead.
 //
 // OpenNI2 reports the field of view, not a calibration: intrinsics are
 // derived from it with the principal point at the image centre unless the

@@ -93,17 +93,22 @@ Status parseNumbers(const Cell &c, const CsvErrors &err, double *out, size_t cou
 		s.remove_prefix(start);
 		size_t end = s.find_first_of(" \t\r");
 		std::string_view token = s.substr(0, end);
-		if (n < count && !parseWhole(token, out[n]))
-			return err.at(c, "value " + std::to_string(n + 1) + ": expected a number, got \"" +
-						 std::string(token) + "\"");
+		if (n < count && !parseWhole(token, out[n])) {
+			// Appended, not "literal" + string: GCC 12 warns falsely on that at -O3.
+			std::string what = "value ";
+			what.append(std::to_string(n + 1)).append(": expected a number, got \"").append(token).append("\"");
+			return err.at(c, what);
+		}
 		++n;
 		if (end == std::string_view::npos)
 			break;
 		s.remove_prefix(end);
 	}
-	if (n != count)
-		return err.at(c, "expected " + std::to_string(count) + " numbers, got " +
-					 std::to_string(n));
+	if (n != count) {
+		std::string what = "expected ";
+		what.append(std::to_string(count)).append(" numbers, got ").append(std::to_string(n));
+		return err.at(c, what);
+	}
 	return {};
 }
 
@@ -145,8 +150,7 @@ Expected<std::vector<ResultRow>> readResultsCsv(const fs::path &file)
 
 		if (!sawHeader) {
 			if (trim(line) != kHeader) {
-				// Appended, not "literal" + string: GCC 12 warns falsely on that at -O3.
-				std::string what = "expected header \"";
+				std::string what = "expected header \""; // appended, as above
 				what.append(kHeader).append("\", got \"").append(trim(line)).append("\"");
 				return err.at(lineNo, 1, what);
 			}
