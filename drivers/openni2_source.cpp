@@ -97,7 +97,7 @@ Status OpenNi2Source::open()
 		return e;
 	};
 
-	if (options_.realTime && !(options_.speed > 0 && std::isfinite(options_.speed)))
+	if (options_.realTime && !ReplayPacer::validSpeed(options_.speed))
 		return fail(Errc::kInvalidArgument, "playback speed must be > 0");
 	if (openni::OpenNI::initialize() != openni::STATUS_OK)
 		return fail(Errc::kIo, "OpenNI2 initialisation failed");

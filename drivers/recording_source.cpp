@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "drivers/recording_source.h"
 
-#include <cmath>
-
 namespace ihf {
 
 RecordingSource::RecordingSource(std::filesystem::path file, RecordingSourceOptions options,
@@ -15,7 +13,7 @@ RecordingSource::RecordingSource(std::filesystem::path file, RecordingSourceOpti
 
 Status RecordingSource::open()
 {
-	if (options_.pacing == Pacing::kRealTime && !(options_.speed > 0 && std::isfinite(options_.speed)))
+	if (options_.pacing == Pacing::kRealTime && !ReplayPacer::validSpeed(options_.speed))
 		return makeError(Errc::kInvalidArgument, info_.uri + ": playback speed must be > 0");
 	Expected<RecordingReader> reader = RecordingReader::open(file_);
 	if (!reader)

@@ -8,6 +8,7 @@
 // ihf run's loop (which drops frames that are late).
 
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 
 #include "drivers/clock.h"
@@ -18,6 +19,9 @@ class ReplayPacer
 {
 public:
 	ReplayPacer(PacingClock &clock, double speed) : clock_(&clock), speed_(speed) {}
+
+	// A speed due() can divide by: finite and > 0.
+	static bool validSpeed(double speed) { return speed > 0 && std::isfinite(speed); }
 
 	void reset() { anchored_ = false; }
 

@@ -274,6 +274,14 @@ TEST_F(OpenNi2RoundTrip, RealTimePlaybackPacesEveryFrameOnTheInjectedClock)
 	EXPECT_EQ(*r, FrameOutcome::kEndOfStream);
 	EXPECT_EQ(paced.counters().delivered, 8u);
 	EXPECT_EQ(paced.counters().dropped, 0u);
+	paced.stop();
+
+	realTime.speed = -1;
+	OpenNi2Source backwards(oni.string(), realTime);
+	Status st = backwards.open();
+	ASSERT_FALSE(st.ok());
+	EXPECT_NE(std::string(st.error().message.view()).find("playback speed must be > 0"), std::string::npos)
+		<< st.error().message.view();
 }
 
 TEST_F(OpenNi2RoundTrip, IhfRecordConvertsOniToRecBitIdentical)

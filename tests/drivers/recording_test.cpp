@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "drivers/recording_reader.h"
 #include "drivers/recording_source.h"
@@ -390,6 +391,26 @@ TEST(ReplayPacer, AnchorsOnTheFirstFrameAndScalesBySpeed)
 
 	pacer.reset(); // the next frame anchors anew
 	EXPECT_EQ(pacer.due(9'000'000'000), clock.now);
+
+	EXPECT_TRUE(ReplayPacer::validSpeed(0.5));
+	for (double bad : {0.0, -1.0, std::nan(""), HUGE_VAL})
+		EXPECT_FALSE(ReplayPacer::validSpeed(bad)) << bad;
+}
+
+TEST(RecordingPacing, ASpeedThatCannotPaceIsRefusedAtOpen)
+{
+	const fs::path file = freshTempDir("rec_bad_speed") / "s.rec";
+	writeStream(file, testStream(), false);
+	RecordingSourceOptions o;
+	o.pacing = Pacing::kRealTime;
+	o.speed = 0;
+	RecordingSource src(file, o);
+	Status st = src.open();
+	ASSERT_FALSE(st.ok());
+	EXPECT_NE(std::string(st.error().message.view()).find("playback speed must be > 0"), std::string::npos)
+		<< st.error().message.view();
+	o.pacing = Pacing::kStep; // a step never divides by it
+	EXPECT_TRUE(RecordingSource(file, o).open().ok());
 }
 
 TEST(RecordingPacing, RealTimeFollowsHostTimestampsOnTheInjectedClock)
