@@ -341,12 +341,14 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	views.get("lateral_step_mm", e.views.lateralStepMm);
 	views.get("rotation_step_deg", e.views.rotationStepDeg);
 	views.get("anchor_share", e.views.anchorShare);
+	views.get("depth_centre_width", e.views.depthCentreWidth);
 	views.get("refine_top", e.views.refineTop);
 	views.get("budget_rotation_step_deg", e.views.budgetRotationStepDeg);
 	views.get("budget_refine_top", e.views.budgetRefineTop);
 	views.get("budget_coarse_points", e.views.budgetCoarsePoints);
 	views.get("budget_coarse_keep", e.views.budgetCoarseKeep);
 	views.get("budget_depth_centres", e.views.budgetDepthCentres);
+	views.get("budget_depth_centre_width", e.views.budgetDepthCentreWidth);
 	views.get("keep", e.views.keep);
 	views.get("inlier_mm", e.views.inlierMm);
 	views.get("max_shift_mm", e.views.maxShiftMm);
@@ -432,6 +434,10 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.views.rotationStepDeg >= 0 && e.views.rotationStepDeg <= 45,
 				  "view_search.rotation_step_deg"),
 			  inRange(e.views.anchorShare > 0 && e.views.anchorShare <= 1, "view_search.anchor_share"),
+			  inRange(e.views.depthCentreWidth >= 0 && e.views.depthCentreWidth <= 10,
+				  "view_search.depth_centre_width"),
+			  inRange(e.views.budgetDepthCentreWidth >= 0 && e.views.budgetDepthCentreWidth <= 10,
+				  "view_search.budget_depth_centre_width"),
 			  inRange(e.views.refineTop >= 1 && e.views.refineTop <= kMaxRefineTop, "view_search.refine_top"),
 			  inRange(e.views.budgetRotationStepDeg >= 0 && e.views.budgetRotationStepDeg <= 45,
 				  "view_search.budget_rotation_step_deg"),

@@ -86,6 +86,7 @@ bool PoseEstimator::carvePersistent(A &arena)
 	       arenaTake(arena, modeThreadSupport_, (WorkerPool::resolve(l.threads) - 1) * count(l.maxVotes)) &&
 	       arenaTake(arena, seeds_, count(l.maxModeSeeds)) && arenaTake(arena, modes_, count(l.maxModes)) &&
 	       arenaTake(arena, windowHist_, size_t{1024}) && arenaTake(arena, windows_, size_t{8}) &&
+	       arenaTake(arena, anchorWindows_, size_t{4}) &&
 	       arenaTake(arena, viewHeaps_, viewSearchHeapSize(WorkerPool::resolve(l.threads))) &&
 	       arenaTake(arena, viewFine_, size_t{kMaxCoarseKeep}) &&
 	       arenaTake(arena, kept_, count(std::max(1, l.maxCandidates))) &&
@@ -409,14 +410,45 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 		searchAt(centres[c], 0.0f, "view");
 	}
 	// Centres from the box and the depth alone: on the box's ray (the
-	// virtual crop's optical axis) at each dense slab's median depth.
-	const size_t nd = std::min(windowCount_, static_cast<size_t>(std::max(0, config.views.depthCentres)));
-	for (size_t w = 0; w < nd; ++w) {
+	// virtual crop's optical axis) at each dense slab's median depth: the
+	// registration's slabs, then thinner ones of the search's own whose
+	// medians lie in front of all those (a large object's surface and the
+	// wall behind it share a thick slab, whose median lies between them;
+	// a thin slab behind is background, and more centres are more wrong
+	// poses that can outscore the right one).
+	constexpr size_t kMaxAnchors = 8;
+	float anchors[kMaxAnchors];
+	size_t na = 0;
+	const size_t wanted = static_cast<size_t>(std::max(0, config.views.depthCentres));
+	for (const DepthWindow &slab : windows_.first(std::min(windowCount_, wanted))) {
+		const float a = windowMedianDepth(observedView_, slab, config.views.anchorShare);
+		if (a > 0 && na < kMaxAnchors)
+			anchors[na++] = a;
+	}
+	if (config.views.depthCentreWidth > 0 && wanted > 0) {
+		const size_t thin = findDepthWindows(observedView_,
+						     static_cast<float>(config.views.depthCentreWidth * diameter),
+						     windowHist_, anchorWindows_.first(std::min(anchorWindows_.size(), wanted)));
+		// Within half the search's depth alignment of one already
+		// searched, a centre adds nothing.
+		const float apart = 0.5f * config.views.maxShiftMm;
+		float front = std::numeric_limits<float>::max();
+		for (size_t j = 0; j < na; ++j)
+			front = std::min(front, anchors[j]);
+		const size_t thick = na;
+		for (const DepthWindow &slab : anchorWindows_.first(thin)) {
+			const float a = windowMedianDepth(observedView_, slab, config.views.anchorShare);
+			bool seen = !(a > 0) || a > front - apart;
+			for (size_t j = thick; j < na && !seen; ++j)
+				seen = std::abs(a - anchors[j]) < apart;
+			if (!seen && na < kMaxAnchors)
+				anchors[na++] = a;
+		}
+	}
+	for (size_t j = 0; j < na; ++j) {
 		if (!boxFits(costs_.bound(Stage::kViews, config.budgetMargin)))
 			return;
-		const float anchor = windowMedianDepth(observedView_, windows_[w], config.views.anchorShare);
-		if (anchor > 0)
-			searchAt(Eigen::Vector3d::Zero(), anchor, "view_depth");
+		searchAt(Eigen::Vector3d::Zero(), anchors[j], "view_depth");
 	}
 }
 

@@ -428,6 +428,7 @@ private:
 	std::span<int> windowHist_;
 	std::span<DepthWindow> windows_;
 	size_t windowCount_ = 0; // of the current box
+	std::span<DepthWindow> anchorWindows_; // the view search's own, when thinner
 	std::span<ViewCoarseCandidate> viewHeaps_; // the view search's, per thread
 	std::span<ViewFineResult> viewFine_;
 	std::span<Hypothesis> kept_; // best distinct hypotheses, by score

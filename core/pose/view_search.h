@@ -58,6 +58,11 @@ struct ViewSearchConfig {
 	// (BENCHMARKS.md); the box and the depth alone still place the object.
 	int depthCentres = 3;
 	float anchorShare = 0.5f; // of the box's width and height around its centre giving the median
+	// Also the medians of as many slabs this thick (in object diameters)
+	// that lie in front of all those: a slab a diameter thick holds a
+	// large object's surface and the background a few centimetres behind
+	// it, and its median then lies between the two. 0: off.
+	float depthCentreWidth = 0.5f;
 	// The given box is off by some percent, so the box-centred translation
 	// is off sideways by millimetres, enough for a wrong rotation to score
 	// above the true one. The refineTop best distinct rotations of the last
@@ -81,6 +86,8 @@ struct ViewSearchConfig {
 	// and at most this many depth centres: a further search leaves no time
 	// for the ICP polish (BENCHMARKS.md, session 14).
 	int budgetDepthCentres = 2;
+	// and the thinner slabs' centres only if this is set (0: none).
+	float budgetDepthCentreWidth = 0.0f;
 };
 
 // The settings a search inside a frame budget runs with.
@@ -91,6 +98,7 @@ inline ViewSearchConfig underBudget(ViewSearchConfig c)
 	c.coarsePoints = c.budgetCoarsePoints;
 	c.coarseKeep = c.budgetCoarseKeep;
 	c.depthCentres = std::min(c.depthCentres, c.budgetDepthCentres);
+	c.depthCentreWidth = c.budgetDepthCentreWidth;
 	return c;
 }
 

@@ -155,6 +155,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.views.centres, b.views.centres);
 	EXPECT_EQ(a.views.depthCentres, b.views.depthCentres);
 	EXPECT_EQ(a.views.anchorShare, b.views.anchorShare);
+	EXPECT_EQ(a.views.depthCentreWidth, b.views.depthCentreWidth);
 	EXPECT_EQ(a.views.lateralStepMm, b.views.lateralStepMm);
 	EXPECT_EQ(a.views.rotationStepDeg, b.views.rotationStepDeg);
 	EXPECT_EQ(a.views.refineTop, b.views.refineTop);
@@ -163,6 +164,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.views.budgetCoarsePoints, b.views.budgetCoarsePoints);
 	EXPECT_EQ(a.views.budgetCoarseKeep, b.views.budgetCoarseKeep);
 	EXPECT_EQ(a.views.budgetDepthCentres, b.views.budgetDepthCentres);
+	EXPECT_EQ(a.views.budgetDepthCentreWidth, b.views.budgetDepthCentreWidth);
 	EXPECT_EQ(a.views.maxShiftMm, b.views.maxShiftMm);
 	EXPECT_EQ(a.views.inlierMm, b.views.inlierMm);
 	EXPECT_EQ(a.views.keep, b.views.keep);
@@ -193,6 +195,7 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\ncoarse_keep = 5000\n", "view_search.coarse_keep"},
 		     {"[view_search]\ndepth_centres = 5\n", "view_search.depth_centres"},
 		     {"[view_search]\nanchor_share = 0\n", "view_search.anchor_share"},
+		     {"[view_search]\ndepth_centre_width = -0.5\n", "view_search.depth_centre_width"},
 		     {"[view_search]\nlateral_step_mm = -1\n", "view_search.lateral_step_mm"},
 		     {"[view_search]\nrotation_step_deg = 50\n", "view_search.rotation_step_deg"},
 		     {"[view_search]\nrefine_top = 65\n", "view_search.refine_top"},
@@ -201,6 +204,7 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\nbudget_coarse_points = 300\n", "view_search.budget_coarse_points"},
 		     {"[view_search]\nbudget_coarse_keep = 0\n", "view_search.budget_coarse_keep"},
 		     {"[view_search]\nbudget_depth_centres = 5\n", "view_search.budget_depth_centres"},
+		     {"[view_search]\nbudget_depth_centre_width = 11\n", "view_search.budget_depth_centre_width"},
 		     {"[view_search]\nbudget_viewpoints = 0\n", "view_search.budget_viewpoints"},
 		     {"[budget]\nmax_iterations = -2\n", "budget.max_iterations"},
 		     {"[budget]\nmax_depth_windows = -2\n", "budget.max_depth_windows"},

@@ -578,6 +578,8 @@ TEST(ViewSearch, UnderBudgetTakesTheBudgetClimbAndCoarsePass)
 	c.budgetCoarseKeep = 100;
 	c.depthCentres = 3;
 	c.budgetDepthCentres = 2;
+	c.depthCentreWidth = 0.5f;
+	c.budgetDepthCentreWidth = 0.0f;
 	c.lateralStepMm = 3.0f;
 	const ihf::ViewSearchConfig b = ihf::underBudget(c);
 	EXPECT_EQ(b.rotationStepDeg, 2.0f);
@@ -585,6 +587,7 @@ TEST(ViewSearch, UnderBudgetTakesTheBudgetClimbAndCoarsePass)
 	EXPECT_EQ(b.coarsePoints, 12);
 	EXPECT_EQ(b.coarseKeep, 100);
 	EXPECT_EQ(b.depthCentres, 2);
+	EXPECT_EQ(b.depthCentreWidth, 0.0f);
 	EXPECT_EQ(b.lateralStepMm, 3.0f);
 	EXPECT_EQ(b.keep, c.keep);
 	EXPECT_EQ(b.inplane, c.inplane);
