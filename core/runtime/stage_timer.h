@@ -124,6 +124,7 @@ public:
 	void observe(const StageTotals &before, const StageTotals &after);
 	// One run of a stage whose cost grows with `work` (e.g. the box's depth
 	// pixels; 1: a fixed cost): the model keeps the cost per unit of work.
+	// A cost far outside the running spread counts as a few deviations.
 	void observe(Stage stage, int64_t ns, double work = 1.0);
 
 	// Predicted cost of running the given stages once more (0 for a stage
@@ -137,6 +138,10 @@ public:
 	int64_t bound(Stage stage, double margin, double work = 1.0) const;
 
 private:
+	// An observation moves the model by at most this many deviations from
+	// the average (the deviation taken as at least kSpreadFloor of it).
+	static constexpr double kClipDeviations = 8.0;
+	static constexpr double kSpreadFloor = 0.1;
 	double alpha_;
 	std::array<double, kStageCount> average_{};
 	std::array<double, kStageCount> deviation_{};

@@ -195,6 +195,35 @@ TEST(StageCostModel, BoundAddsTheRunningDeviation)
 	EXPECT_LE(model.bound(Stage::kIcp, 2.0), 1501); // (rounded up)
 }
 
+// One stall (a view search preempted for 50 ms in a run of 5 ms ones) must
+// not price the stage out of the frames that follow: a stage that no longer
+// runs is never observed again to correct the model. A lasting change still
+// comes through.
+TEST(StageCostModel, AStallDoesNotPriceAStageOutOfLaterFrames)
+{
+	StageCostModel model(0.3);
+	for (int i = 0; i < 30; ++i)
+		model.observe(Stage::kViews, i % 2 ? 5200 : 4800);
+	const int64_t before = model.bound(Stage::kViews, 1.0);
+	EXPECT_LT(before, 5500);
+	model.observe(Stage::kViews, 52000);
+	const int64_t after = model.bound(Stage::kViews, 1.0);
+	RecordProperty("after_stall_ns", static_cast<int>(after));
+	EXPECT_LT(after, 8000); // taken as is: 5000 + 0.3 * 47000, plus as much spread
+	for (int i = 0; i < 3; ++i)
+		model.observe(Stage::kViews, 5000);
+	EXPECT_LT(model.bound(Stage::kViews, 1.0), 6500);
+	// The machine slows down for good: twice the cost.
+	for (int i = 0; i < 8; ++i)
+		model.observe(Stage::kViews, 10000);
+	EXPECT_GT(model.average(Stage::kViews), 9000);
+	EXPECT_GE(model.bound(Stage::kViews, 1.0), 10000);
+	// And speeds up again.
+	for (int i = 0; i < 10; ++i)
+		model.observe(Stage::kViews, 5000);
+	EXPECT_LT(model.average(Stage::kViews), 5600);
+}
+
 TEST(StageCostModel, ACostThatGrowsWithTheBoxIsPredictedPerUnitOfWork)
 {
 	StageCostModel model(0.5);
