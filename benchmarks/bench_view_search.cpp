@@ -3,7 +3,8 @@
 // templates of the LM-O ape at load (320 directions x 128 points, the
 // default), and one search at a translation (320 x 24 rotations) on a
 // render of the ape before a wall: with and without the box-centred
-// translation, coarse-to-fine (default) or one pass on all points.
+// translation, coarse-to-fine (default) or one pass on all points, and
+// the frame budget's cheaper search (budget:1).
 //
 // Run: build/bin/bench_view_search [--benchmark_filter=...]
 
@@ -67,7 +68,13 @@ void BM_SearchViews(benchmark::State &state)
 		state.SkipWithError(pts.error().message.c_str());
 		return;
 	}
-	const ViewTemplates templates{320, 128, *pts};
+	auto budgetPts = buildViewTemplatePoints(mesh, diameter, {160, 128});
+	if (!budgetPts) {
+		state.SkipWithError(budgetPts.error().message.c_str());
+		return;
+	}
+	const ViewTemplates fullTemplates{320, 128, *pts};
+	const ViewTemplates budgetTemplates{160, 128, *budgetPts};
 	const CameraIntrinsics K = kinectV1Intrinsics();
 	Pose truth;
 	truth.R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, 1, 0.2).normalized()).toRotationMatrix();
@@ -85,6 +92,12 @@ void BM_SearchViews(benchmark::State &state)
 	cfg.boxCentre = state.range(0) != 0;
 	if (state.range(1) == 0)
 		cfg.coarsePoints = 0;
+	// The frame budget's search (config/device.toml's settings on the
+	// budget's templates: 160 directions).
+	const bool budget = state.range(2) != 0;
+	if (budget)
+		cfg = underBudget(cfg);
+	const ViewTemplates templates = budget ? budgetTemplates : fullTemplates;
 	ViewProposal top[6];
 	const Eigen::Vector3d centre = truth.t + Eigen::Vector3d(0, 0, 20);
 	for (auto _ : state) {
@@ -95,11 +108,12 @@ void BM_SearchViews(benchmark::State &state)
 	state.counters["rotations"] = viewSearchSize(templates, cfg);
 }
 BENCHMARK(BM_SearchViews)
-	->ArgNames({"box_centre", "coarse"})
-	->Args({1, 1})
-	->Args({1, 0})
-	->Args({0, 1})
-	->Args({0, 0})
+	->ArgNames({"box_centre", "coarse", "budget"})
+	->Args({1, 1, 0})
+	->Args({1, 0, 0})
+	->Args({0, 1, 0})
+	->Args({0, 0, 0})
+	->Args({1, 1, 1})
 	->Unit(benchmark::kMillisecond);
 
 } // namespace

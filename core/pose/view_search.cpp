@@ -7,6 +7,7 @@
 
 #include "core/geometry/rotation.h"
 #include "core/pose/depth_agreement.h"
+#include "core/pose/median_select.h"
 
 namespace ihf {
 
@@ -17,10 +18,24 @@ Eigen::Matrix3d viewRotation(const ViewTemplates &t, int inplane, int v, int tur
 
 namespace {
 
+// Points by coordinate (one array each, so that a loop over them runs on
+// vector lanes).
+struct ViewPoints {
+	std::array<float, kMaxViewPoints> x, y, z;
+
+	Eigen::Vector3f at(int i) const { return {x[i], y[i], z[i]}; }
+	void set(int i, const Eigen::Vector3f &p)
+	{
+		x[i] = p.x();
+		y[i] = p.y();
+		z[i] = p.z();
+	}
+};
+
 // Points of one view already rotated by the view's rotation; an in-plane
 // turn (c, s) then only mixes x and y.
 struct TurnedView {
-	const Eigen::Vector3f *a;
+	const ViewPoints *a;
 	int n;
 	float c, s;
 };
@@ -41,34 +56,23 @@ public:
 	}
 
 	// Classifies the points at translation t; residuals within the shift
-	// range are written to res when it is not null.
+	// range are written to res when it is not null. Two loops: the
+	// projection, branch-free so that it runs on vector lanes, then the
+	// lookups in point order.
 	Tally tally(const TurnedView &v, const Eigen::Vector3f &t, float *res, float *all = nullptr) const
 	{
+		std::array<int, kMaxViewPoints> pixel;
+		std::array<float, kMaxViewPoints> depth;
 		Tally k;
+		k.outside = project(v, t, pixel.data(), depth.data());
 		int compared = 0;
 		for (int i = 0; i < v.n; ++i) {
-			const Eigen::Vector3f &a = v.a[i];
-			const float z = a.z() + t.z();
-			if (!(z > 1.0f)) {
-				++k.outside;
+			if (pixel[i] < 0)
 				continue;
-			}
-			const float x = v.c * a.x() - v.s * a.y() + t.x();
-			const float y = v.s * a.x() + v.c * a.y() + t.y();
-			const int u = static_cast<int>(std::floor(fx_ * x / z + cx_ + 0.5f));
-			const int w = static_cast<int>(std::floor(fy_ * y / z + cy_ + 0.5f));
-			if (u < 0 || w < 0 || u >= obs_.width || w >= obs_.height) {
-				// Beyond a side the frame clipped the point is unseen:
-				// the object may go on there (a border box).
-				if ((u < 0 && !box_.open.left) || (u >= obs_.width && !box_.open.right) ||
-				    (w < 0 && !box_.open.top) || (w >= obs_.height && !box_.open.bottom))
-					++k.outside;
-				continue;
-			}
-			const float o = obs_.at(u, w);
+			const float o = obs_.data[pixel[i]];
 			if (!(o > 0))
 				continue; // no depth: no evidence either way
-			const float e = o - z;
+			const float e = o - depth[i];
 			if (all)
 				all[compared++] = e;
 			if (res && std::abs(e) < cfg_.maxShiftMm)
@@ -76,6 +80,44 @@ public:
 			classify(k, e);
 		}
 		return k;
+	}
+
+	// Each point's pixel (offset into obs_, -1 when it falls outside the
+	// image) and depth at translation t; returns how many points count as
+	// outside: behind the camera, or past a side of the image that the
+	// frame did not clip (past a clipped side the point is unseen: the
+	// object may go on there, a border box).
+	int project(const TurnedView &v, const Eigen::Vector3f &t, int *pixel, float *depth) const
+	{
+		// Everything the loop reads into locals: the stores through
+		// pixel and depth could otherwise alias them, which keeps the loop
+		// off vector lanes.
+		const float width = static_cast<float>(obs_.width), height = static_cast<float>(obs_.height);
+		const int left = !box_.open.left, right = !box_.open.right, top = !box_.open.top,
+			  bottom = !box_.open.bottom;
+		const int n = v.n, stride = obs_.stride;
+		const float c = v.c, s = v.s, tx = t.x(), ty = t.y(), tz = t.z();
+		const float fx = fx_, fy = fy_, cx = cx_, cy = cy_;
+		const float *ax = v.a->x.data(), *ay = v.a->y.data(), *az = v.a->z.data();
+		int outside = 0;
+		for (int i = 0; i < n; ++i) {
+			const float z = az[i] + tz;
+			const float x = c * ax[i] - s * ay[i] + tx;
+			const float y = s * ax[i] + c * ay[i] + ty;
+			// floor(f) is below 0 or at least the size exactly when f is.
+			const float fu = fx * x / z + cx + 0.5f;
+			const float fw = fy * y / z + cy + 0.5f;
+			// Bitwise, not short-circuit: no branch in the loop.
+			const int front = z > 1.0f;
+			const int lo = fu < 0, hi = fu >= width, up = fw < 0, down = fw >= height;
+			const int inside = front & (1 - (lo | hi | up | down));
+			outside += (1 - front) | (lo & left) | (hi & right) | (up & top) | (down & bottom);
+			const int u = static_cast<int>(inside ? fu : 0.0f);
+			const int w = static_cast<int>(inside ? fw : 0.0f);
+			pixel[i] = inside ? w * stride + u : -1;
+			depth[i] = z;
+		}
+		return outside;
 	}
 
 	// One residual (observed - model depth) into the tally.
@@ -95,14 +137,21 @@ public:
 	// the extent's edge on the box's other side (axes with neither keep t's).
 	Eigen::Vector3f centred(const TurnedView &v, const Eigen::Vector3f &t) const
 	{
+		// The projections on vector lanes, then their extent.
+		std::array<float, kMaxViewPoints> us, ws;
+		const float *ax = v.a->x.data(), *ay = v.a->y.data(), *az = v.a->z.data();
+		int behind = 0;
+		for (int i = 0; i < v.n; ++i) {
+			const float z = az[i] + t.z();
+			behind |= !(z > 1.0f);
+			us[i] = fx_ * (v.c * ax[i] - v.s * ay[i] + t.x()) / z;
+			ws[i] = fy_ * (v.s * ax[i] + v.c * ay[i] + t.y()) / z;
+		}
+		if (behind)
+			return t;
 		float u0 = 1e30f, u1 = -1e30f, w0 = 1e30f, w1 = -1e30f;
 		for (int i = 0; i < v.n; ++i) {
-			const Eigen::Vector3f &a = v.a[i];
-			const float z = a.z() + t.z();
-			if (!(z > 1.0f))
-				return t;
-			const float u = fx_ * (v.c * a.x() - v.s * a.y() + t.x()) / z;
-			const float w = fy_ * (v.s * a.x() + v.c * a.y() + t.y()) / z;
+			const float u = us[i], w = ws[i];
 			u0 = std::min(u0, u);
 			u1 = std::max(u1, u);
 			w0 = std::min(w0, w);
@@ -133,9 +182,7 @@ public:
 		if (cfg_.maxShiftMm > 0 && k.residuals >= 8) {
 			// The median residual moves the model onto the surface the
 			// sensor saw.
-			float *mid = res + k.residuals / 2;
-			std::nth_element(res, mid, res + k.residuals);
-			t *= (t.z() + *mid) / t.z();
+			t *= (t.z() + medianSelect(std::span<float>(res, static_cast<size_t>(k.residuals)))) / t.z();
 			k = tally(v, t, nullptr);
 		}
 		return k;
@@ -152,9 +199,7 @@ public:
 		Tally k = tally(v, t, res, all);
 		if (k.residuals < 8)
 			return k;
-		float *mid = res + k.residuals / 2;
-		std::nth_element(res, mid, res + k.residuals);
-		const float shift = *mid;
+		const float shift = medianSelect(std::span<float>(res, static_cast<size_t>(k.residuals)));
 		t *= (t.z() + shift) / t.z();
 		const int compared = k.in + k.out + k.occ;
 		Tally moved;
@@ -223,7 +268,7 @@ bool betterCandidate(const ViewCoarseCandidate &a, const ViewCoarseCandidate &b,
 // One thread's view: its points rotated by the view's rotation (a subset on
 // a stride) and the translation they are tried at.
 struct RotatedView {
-	std::array<Eigen::Vector3f, kMaxViewPoints> points;
+	ViewPoints points;
 	int m = 0;
 	int view = -1;
 	Eigen::Vector3f t0;
@@ -256,14 +301,14 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	const int inplane = config.inplane;
 
 	// The view's points (already rotated by the view) turned in-plane.
-	auto turnedView = [&](const Eigen::Vector3f *pts, int m, int turn) {
+	auto turnedView = [&](const ViewPoints *pts, int m, int turn) {
 		const double angle = 2.0 * M_PI * turn / inplane;
 		return TurnedView{pts, m, static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle))};
 	};
 	// Score of one rotation of view r, at its translation and the
 	// box-centred one; t gets the better one's.
 	auto evaluate = [&](const RotatedView &r, int turn, Eigen::Vector3f &t, bool coarse, EvalScratch &s) {
-		const TurnedView tv = turnedView(r.points.data(), r.m, turn);
+		const TurnedView tv = turnedView(&r.points, r.m, turn);
 		auto align = [&](Eigen::Vector3f &at) {
 			return coarse ? scorer.alignedOnce(tv, at, s.res.data(), s.all.data())
 				      : scorer.aligned(tv, at, s.res.data());
@@ -285,14 +330,14 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		const std::span<const Eigen::Vector3f> pts = templates.view(v);
 		int m = 0;
 		for (int i = 0; i < n; i += stride)
-			r.points[m++] = r0 * pts[i];
+			r.points.set(m++, r0 * pts[i]);
 		r.m = m;
 		r.view = v;
 		r.t0 = centreF;
 		if (anchorDepth > 0 && m > 0) {
 			// In-plane turns keep every point's depth: one median per view.
 			for (int i = 0; i < m; ++i)
-				s.depths[i] = r.points[i].z();
+				s.depths[i] = r.points.z[i];
 			std::nth_element(s.depths.begin(), s.depths.begin() + m / 2, s.depths.begin() + m);
 			r.t0.z() = anchorDepth - s.depths[m / 2];
 		}
@@ -332,19 +377,19 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	// turn of a few degrees hardly changes which points are visible.
 	auto climbSideways = [&](ViewProposal &p, RotatedView &r, EvalScratch &s) {
 		rotateView(r, p.view, 1, s);
-		const TurnedView base = turnedView(r.points.data(), r.m, p.turn);
+		const TurnedView base = turnedView(&r.points, r.m, p.turn);
 		const bool turning = config.rotationStepDeg > 0;
 		// With turns: the points in camera axes (turned in-plane too),
 		// the current one in `cur`, a trial in `trial`.
-		std::array<Eigen::Vector3f, kMaxViewPoints> cur, trial;
+		ViewPoints cur, trial;
 		if (turning)
 			for (int i = 0; i < r.m; ++i) {
-				const Eigen::Vector3f &a = r.points[i];
-				cur[i] = {base.c * a.x() - base.s * a.y(), base.s * a.x() + base.c * a.y(), a.z()};
+				const Eigen::Vector3f a = r.points.at(i);
+				cur.set(i, {base.c * a.x() - base.s * a.y(), base.s * a.x() + base.c * a.y(), a.z()});
 			}
 		Eigen::Matrix3f turned = Eigen::Matrix3f::Identity();
-		const TurnedView curView = turning ? TurnedView{cur.data(), r.m, 1.0f, 0.0f} : base;
-		const TurnedView trialView{trial.data(), r.m, 1.0f, 0.0f};
+		const TurnedView curView = turning ? TurnedView{&cur, r.m, 1.0f, 0.0f} : base;
+		const TurnedView trialView{&trial, r.m, 1.0f, 0.0f};
 		Eigen::Vector3f t = p.pose.t.cast<float>();
 		float best = p.score;
 		const float lateral = config.lateralStepMm, angle = config.rotationStepDeg * static_cast<float>(M_PI / 180.0);
@@ -370,7 +415,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 						Eigen::AngleAxisf(d % 2 ? turn : -turn, Eigen::Vector3f::Unit(d / 2))
 							.toRotationMatrix();
 					for (int i = 0; i < r.m; ++i)
-						trial[i] = D * cur[i];
+						trial.set(i, D * cur.at(i));
 					Eigen::Vector3f c = t;
 					const float sc = scorer.score(scorer.aligned(trialView, c, s.res.data()), trialView.n);
 					if (sc > best) {
@@ -385,7 +430,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 				t = bestT;
 				if (bestMove >= 4) {
 					for (int i = 0; i < r.m; ++i)
-						cur[i] = bestD * cur[i];
+						cur.set(i, bestD * cur.at(i));
 					turned = bestD * turned;
 				}
 			}
