@@ -82,10 +82,11 @@ struct ViewSearchConfig {
 	// and a cheaper coarse pass, so that the search fits a frame at all
 	// (the templates' viewpoints are fewer too: ViewTemplateConfig).
 	int budgetCoarsePoints = 16;
-	int budgetCoarseKeep = 128;
-	// and at most this many depth centres: a further search leaves no time
-	// for the ICP polish (BENCHMARKS.md, session 14).
-	int budgetDepthCentres = 2;
+	int budgetCoarseKeep = 256;
+	// and at most this many depth centres (2 until session 23: a third
+	// search left no time for the ICP polish until the search was made
+	// twice as fast; BENCHMARKS.md).
+	int budgetDepthCentres = 3;
 	// and the thinner slabs' centres only if this is set (0: none).
 	float budgetDepthCentreWidth = 0.0f;
 };
