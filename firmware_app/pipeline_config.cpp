@@ -349,6 +349,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	views.get("budget_coarse_keep", e.views.budgetCoarseKeep);
 	views.get("budget_depth_centres", e.views.budgetDepthCentres);
 	views.get("budget_depth_centre_width", e.views.budgetDepthCentreWidth);
+	views.get("budget_polish_rounds", e.views.budgetPolishRounds);
 	views.get("keep", e.views.keep);
 	views.get("inlier_mm", e.views.inlierMm);
 	views.get("max_shift_mm", e.views.maxShiftMm);
@@ -438,6 +439,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 				  "view_search.depth_centre_width"),
 			  inRange(e.views.budgetDepthCentreWidth >= 0 && e.views.budgetDepthCentreWidth <= 10,
 				  "view_search.budget_depth_centre_width"),
+			  inRange(e.views.budgetPolishRounds >= 0 && e.views.budgetPolishRounds <= 16,
+				  "view_search.budget_polish_rounds"),
 			  inRange(e.views.refineTop >= 1 && e.views.refineTop <= kMaxRefineTop, "view_search.refine_top"),
 			  inRange(e.views.budgetRotationStepDeg >= 0 && e.views.budgetRotationStepDeg <= 45,
 				  "view_search.budget_rotation_step_deg"),

@@ -404,8 +404,18 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 		}
 		costs_.observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
 	};
+	// Under a budget every search but the first leaves room for the polish
+	// after it (unbudgeted, everything fits).
+	int searched = 0;
+	auto searchFits = [&]() {
+		int64_t predicted = costs_.bound(Stage::kViews, config.budgetMargin);
+		if (searched++ > 0 && config.icp)
+			predicted += config.views.budgetPolishRounds *
+				     costs_.bound(Stage::kIcp, config.budgetMargin, boxWork_);
+		return boxFits(predicted);
+	};
 	for (int c = 0; c < nc; ++c) {
-		if (!boxFits(costs_.bound(Stage::kViews, config.budgetMargin)))
+		if (!searchFits())
 			return;
 		searchAt(centres[c], 0.0f, "view");
 	}
@@ -446,7 +456,7 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 		}
 	}
 	for (size_t j = 0; j < na; ++j) {
-		if (!boxFits(costs_.bound(Stage::kViews, config.budgetMargin)))
+		if (!searchFits())
 			return;
 		searchAt(Eigen::Vector3d::Zero(), anchors[j], "view_depth");
 	}

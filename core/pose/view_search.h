@@ -89,6 +89,11 @@ struct ViewSearchConfig {
 	int budgetDepthCentres = 3;
 	// and the thinner slabs' centres only if this is set (0: none).
 	float budgetDepthCentreWidth = 0.0f;
+	// Inside a budget every search after the first must leave room for
+	// this many ICP polish rounds after it: in a short frame the searches
+	// would otherwise take all the time and the polish none (20 ms frames,
+	// session 23). 0: searches while they fit.
+	int budgetPolishRounds = 2;
 };
 
 // The settings a search inside a frame budget runs with.

@@ -165,6 +165,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.views.budgetCoarseKeep, b.views.budgetCoarseKeep);
 	EXPECT_EQ(a.views.budgetDepthCentres, b.views.budgetDepthCentres);
 	EXPECT_EQ(a.views.budgetDepthCentreWidth, b.views.budgetDepthCentreWidth);
+	EXPECT_EQ(a.views.budgetPolishRounds, b.views.budgetPolishRounds);
 	EXPECT_EQ(a.views.maxShiftMm, b.views.maxShiftMm);
 	EXPECT_EQ(a.views.inlierMm, b.views.inlierMm);
 	EXPECT_EQ(a.views.keep, b.views.keep);
@@ -205,6 +206,7 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\nbudget_coarse_keep = 0\n", "view_search.budget_coarse_keep"},
 		     {"[view_search]\nbudget_depth_centres = 5\n", "view_search.budget_depth_centres"},
 		     {"[view_search]\nbudget_depth_centre_width = 11\n", "view_search.budget_depth_centre_width"},
+		     {"[view_search]\nbudget_polish_rounds = -1\n", "view_search.budget_polish_rounds"},
 		     {"[view_search]\nbudget_viewpoints = 0\n", "view_search.budget_viewpoints"},
 		     {"[budget]\nmax_iterations = -2\n", "budget.max_iterations"},
 		     {"[budget]\nmax_depth_windows = -2\n", "budget.max_depth_windows"},

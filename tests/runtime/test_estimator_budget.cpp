@@ -7,6 +7,7 @@
 // matches the sizing function and the high-water mark is the persistent
 // part plus the largest box's scratch.
 
+#include <algorithm>
 #include <tuple>
 #include <utility>
 
@@ -252,6 +253,74 @@ TEST_F(EstimatorBudget, ViewSearchRunsUnderTheBudgetAndCountsTheBoxOnce)
 	EXPECT_EQ(r.iterationsDone, 0);
 	EXPECT_EQ(s.stages[static_cast<int>(Stage::kViews)].calls, 0u);
 	EXPECT_EQ(s.budgetStops, 1u);
+}
+
+// Inside a budget a view search after the first must leave room for
+// budgetPolishRounds polish rounds after it. With a frame that every search
+// fits but then not the polish, the searches take it all when no room is
+// kept; keeping room for two rounds, a later search gives way to the polish.
+TEST_F(EstimatorBudget, LaterViewSearchesLeaveRoomForThePolish)
+{
+	ObjectModel &model = *model_->model;
+	auto points = buildViewTemplatePoints(model.mesh(), model.params().diameter, {40, 32});
+	ASSERT_TRUE(points) << points.error().message;
+	model.attachViewTemplates(40, 32, std::move(*points));
+	struct Detach {
+		ObjectModel &m;
+		~Detach() { m.attachViewTemplates(0, 0, {}); }
+	} detach{model};
+
+	const DepthImageMm depth = withWall();
+	EstimatorConfig c = config(0, 0.0f, true);
+	c.halfTurns.candidates = 0;
+	c.views.inplane = 6;
+	c.views.depthCentres = c.views.budgetDepthCentres = 2;
+	test::StepClock clock(kMs);
+	PoseEstimator e({}, &clock);
+	auto calls = [&](Stage stage) { return e.stats().stages[static_cast<int>(stage)].calls; };
+	auto total = [&](Stage stage) {
+		return static_cast<int64_t>(e.stats().stages[static_cast<int>(stage)].totalNs);
+	};
+	auto runIn = [&](float budgetMs) {
+		e.beginFrame(1, budgetMs);
+		PoseEstimate r = e.estimate(depth.view(), test::kKinect, box_, model, c);
+		e.endFrame();
+		return r;
+	};
+	// Unlimited: every search and the polish, and what they cost.
+	PoseEstimate r = runIn(0.0f);
+	ASSERT_TRUE(r.found) << r.reason;
+	ASSERT_EQ(calls(Stage::kIcp), 1u);
+	const uint64_t searches = calls(Stage::kViews);
+	ASSERT_GE(searches, 2u) << "the wall gives a depth centre besides the voted one";
+	const int64_t view = total(Stage::kViews) / static_cast<int64_t>(searches);
+	const int64_t icp = total(Stage::kIcp);
+	const int64_t before = e.stats().worstFrameNs - icp;
+	// Every search fits and the polish after them does not; without the
+	// last search the polish fits.
+	const int64_t lo = std::max(before, before - view + icp), hi = before + icp;
+	ASSERT_GE(hi - lo, 2 * kMs) << "view " << view << " icp " << icp;
+	const float budgetMs = static_cast<float>((lo + hi) / 2) / kMs;
+
+	for (int rounds : {0, 2}) {
+		c.views.budgetPolishRounds = rounds;
+		const uint64_t views0 = calls(Stage::kViews), icp0 = calls(Stage::kIcp);
+		const uint64_t skipped0 = e.stats().icpSkipped;
+		r = runIn(budgetMs);
+		ASSERT_TRUE(r.found) << r.reason;
+		if (rounds == 0) {
+			EXPECT_EQ(calls(Stage::kViews) - views0, searches);
+			EXPECT_EQ(calls(Stage::kIcp) - icp0, 0u);
+			EXPECT_EQ(e.stats().icpSkipped - skipped0, 1u);
+		} else {
+			// The first search runs whatever the reserve; a later one gave way.
+			EXPECT_GE(calls(Stage::kViews) - views0, 1u);
+			EXPECT_LT(calls(Stage::kViews) - views0, searches);
+			EXPECT_EQ(calls(Stage::kIcp) - icp0, 1u);
+			EXPECT_FALSE(r.icpSkipped);
+		}
+		EXPECT_EQ(e.stats().frameOverruns, 0u) << "rounds " << rounds;
+	}
 }
 
 // The half-turns of the polished best run under the budget too: with room
