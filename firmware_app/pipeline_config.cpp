@@ -377,6 +377,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 
 	TableReader render(root["render_mesh"].as_table(), file, "render_mesh");
 	render.get("max_error_mm", s.renderMeshErrorMm);
+	render.get("cull_back_faces", e.cullBackFaces);
 	IHF_SECTION(render);
 
 	TableReader budget(root["budget"].as_table(), file, "budget");

@@ -76,6 +76,10 @@ struct EstimatorConfig {
 	int partStride = 0; // 0: the model's training stride
 	int targetParts = 600; // wider stride when a box would give more parts; 0: off
 	bool icp = true;
+	// Hypotheses are rendered without their back faces when the model's
+	// render mesh is closed and wound outwards (ObjectModel::
+	// renderMeshClosed()): the same depth at about half the cost.
+	bool cullBackFaces = true;
 	int icpCandidates = 16; // distinct best hypotheses polished (search, ICP)
 	// After a refinement, also the forest's best of the registration and of
 	// the last iteration when the ranking leaves them out (up to 2 more).

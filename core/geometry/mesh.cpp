@@ -133,3 +133,147 @@ size_t countDegenerateFaces(const Mesh &mesh)
 }
 
 } // namespace ihf
+
+namespace ihf {
+
+/*
+ * Closed and oriented: every edge is run as often one way as the other by
+ * the faces that share it (two faces for a manifold edge; a pinch where
+ * two sheets touch has four); outward: the signed volume, summed from the
+ * origin's tetrahedra, is positive. Faces with a repeated index cover
+ * nothing and are left out.
+ */
+bool isClosedOutward(const Mesh &mesh)
+{
+	std::vector<uint64_t> edges;
+	edges.reserve(3 * mesh.faces.size());
+	double volume = 0.0;
+	const size_t nv = mesh.vertices.size();
+	for (const auto &f : mesh.faces) {
+		if (f[0] >= nv || f[1] >= nv || f[2] >= nv)
+			return false;
+		if (f[0] == f[1] || f[1] == f[2] || f[2] == f[0])
+			continue;
+		for (int i = 0; i < 3; ++i)
+			edges.push_back(uint64_t{f[i]} << 32 | f[(i + 1) % 3]);
+		const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>(), b = mesh.vertices[f[1]].cast<double>(),
+				      c = mesh.vertices[f[2]].cast<double>();
+		volume += a.dot(b.cross(c));
+	}
+	if (edges.empty())
+		return false;
+	std::sort(edges.begin(), edges.end());
+	for (size_t i = 0; i < edges.size();) {
+		const uint64_t e = edges[i];
+		size_t j = i;
+		while (j < edges.size() && edges[j] == e)
+			++j;
+		const uint64_t reverse = (e << 32) | (e >> 32);
+		const auto back = std::equal_range(edges.begin(), edges.end(), reverse);
+		if (static_cast<size_t>(back.second - back.first) != j - i)
+			return false; // an open edge, or faces running it the same way
+		i = j;
+	}
+	return volume > 0.0;
+}
+
+} // namespace ihf
+
+namespace ihf {
+
+/*
+ * Each edge must join an even number of faces (closed); two faces that run
+ * their shared edge the same way disagree in winding, so one of them turns
+ * (an edge of four faces or more, a pinch, ties none). A breadth-first walk over each connected shell fixes every face's
+ * winding relative to its first face (a conflict means the shell cannot be
+ * oriented); a shell whose signed volume is then negative turns whole.
+ */
+bool orientClosedOutward(Mesh &mesh)
+{
+	const size_t nv = mesh.vertices.size(), nf = mesh.faces.size();
+	struct EdgeUse {
+		uint64_t key; // lower vertex << 32 | upper vertex
+		uint32_t face;
+		bool forward; // the face runs it lower -> upper
+	};
+	std::vector<EdgeUse> uses;
+	uses.reserve(3 * nf);
+	for (size_t fi = 0; fi < nf; ++fi) {
+		const auto &f = mesh.faces[fi];
+		if (f[0] >= nv || f[1] >= nv || f[2] >= nv)
+			return false;
+		if (f[0] == f[1] || f[1] == f[2] || f[2] == f[0])
+			continue; // covers nothing
+		for (int i = 0; i < 3; ++i) {
+			const uint32_t a = f[i], b = f[(i + 1) % 3];
+			uses.push_back({uint64_t{std::min(a, b)} << 32 | std::max(a, b), static_cast<uint32_t>(fi), a < b});
+		}
+	}
+	if (uses.empty() || uses.size() % 2 != 0)
+		return false;
+	std::sort(uses.begin(), uses.end(), [](const EdgeUse &x, const EdgeUse &y) { return x.key < y.key; });
+	// Per face its three neighbours and whether each must turn relative to it.
+	constexpr uint32_t kNone = UINT32_MAX;
+	std::vector<std::array<uint32_t, 3>> next(nf, {kNone, kNone, kNone});
+	std::vector<std::array<bool, 3>> turn(nf);
+	std::vector<uint8_t> filled(nf, 0);
+	for (size_t i = 0; i < uses.size();) {
+		size_t j = i;
+		while (j < uses.size() && uses[j].key == uses[i].key)
+			++j;
+		if ((j - i) % 2 != 0)
+			return false; // an open edge
+		if (j - i == 2) {
+			// A manifold edge ties its two faces' windings; a pinch (four
+			// faces or more) ties none, the check at the end judges it.
+			const EdgeUse &x = uses[i], &y = uses[i + 1];
+			if (x.face == y.face)
+				return false;
+			const bool disagree = x.forward == y.forward;
+			next[x.face][filled[x.face]] = y.face;
+			turn[x.face][filled[x.face]++] = disagree;
+			next[y.face][filled[y.face]] = x.face;
+			turn[y.face][filled[y.face]++] = disagree;
+		}
+		i = j;
+	}
+	std::vector<int8_t> flip(nf, -1); // -1: not reached yet
+	std::vector<uint32_t> queue;
+	queue.reserve(nf);
+	for (size_t seed = 0; seed < nf; ++seed) {
+		const auto &sf = mesh.faces[seed];
+		if (flip[seed] >= 0 || sf[0] == sf[1] || sf[1] == sf[2] || sf[2] == sf[0])
+			continue;
+		// One shell: orient it from the seed, then turn it outwards.
+		queue.clear();
+		queue.push_back(static_cast<uint32_t>(seed));
+		flip[seed] = 0;
+		for (size_t q = 0; q < queue.size(); ++q) {
+			const uint32_t f = queue[q];
+			for (int k = 0; k < filled[f]; ++k) {
+				const uint32_t g = next[f][k];
+				const int8_t want = static_cast<int8_t>(flip[f] ^ turn[f][k]);
+				if (flip[g] < 0) {
+					flip[g] = want;
+					queue.push_back(g);
+				} else if (flip[g] != want) {
+					return false; // not orientable
+				}
+			}
+		}
+		double volume = 0.0;
+		for (const uint32_t f : queue) {
+			if (flip[f])
+				std::swap(mesh.faces[f][1], mesh.faces[f][2]);
+			const auto &t = mesh.faces[f];
+			volume += mesh.vertices[t[0]].cast<double>().dot(
+				mesh.vertices[t[1]].cast<double>().cross(mesh.vertices[t[2]].cast<double>()));
+		}
+		if (volume < 0.0)
+			for (const uint32_t f : queue)
+				std::swap(mesh.faces[f][1], mesh.faces[f][2]);
+	}
+	return isClosedOutward(mesh);
+}
+
+} // namespace ihf

@@ -35,4 +35,16 @@ double meshDiameter(const Mesh &mesh);
 // and the samplers; counted so loaders can report them.
 size_t countDegenerateFaces(const Mesh &mesh);
 
+// Whether the mesh is closed, consistently wound and wound outwards (a
+// positive volume): seen from outside, its back faces then always lie
+// behind its front faces (DepthRenderer::setCullBackFaces()).
+bool isClosedOutward(const Mesh &mesh);
+
+// Turns faces so that a closed mesh is wound consistently and outwards
+// (scanned models have a few faces the wrong way round: the LM-O can and
+// eggbox); true if the mesh is then closed and outward. A mesh that is open
+// or cannot be oriented may be partly turned and gives false. Allocates
+// (load time).
+bool orientClosedOutward(Mesh &mesh);
+
 } // namespace ihf

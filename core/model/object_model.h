@@ -32,7 +32,15 @@ public:
 	// The mesh hypotheses are rendered with: a simplified copy when one was
 	// attached at load (mesh_simplify.h), else the mesh itself.
 	const Mesh &renderMesh() const { return renderMesh_.faces.empty() ? mesh() : renderMesh_; }
-	void attachRenderMesh(Mesh m) { renderMesh_ = std::move(m); }
+	void attachRenderMesh(Mesh m)
+	{
+		renderMesh_ = std::move(m);
+		renderClosed_ = orientClosedOutward(renderMesh_);
+	}
+	// Whether the attached render mesh is closed and (after turning any
+	// faces wound the wrong way) wound outwards, so that its back faces can
+	// be skipped; the mesh itself is not checked (false).
+	bool renderMeshClosed() const { return renderClosed_ && !renderMesh_.faces.empty(); }
 	void attachViewTemplates(int viewpoints, int pointsPerView, std::vector<Eigen::Vector3f> points)
 	{
 		ownedViews_ = std::move(points);
@@ -47,6 +55,7 @@ private:
 	std::vector<Eigen::Vector3f> ownedViews_;
 	ViewTemplates views_;
 	Mesh renderMesh_;
+	bool renderClosed_ = false;
 };
 
 // An in-memory model holding its own packed forest.

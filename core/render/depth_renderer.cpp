@@ -481,6 +481,10 @@ Expected<RenderStats> DepthRenderer::render(const Mesh &mesh, const Pose &pose, 
 				++stats.trianglesCulled;
 				continue;
 			}
+			if (cullBackFaces_ && int64_t{b.sx - a.sx} * (c.sy - a.sy) - int64_t{b.sy - a.sy} * (c.sx - a.sx) > 0) {
+				++stats.trianglesCulled;
+				continue;
+			}
 			LazyPlane plane(camera_.data(), f.data(), K);
 			int written;
 			if (tri.single()) {

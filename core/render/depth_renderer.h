@@ -7,7 +7,8 @@
 // coordinates, OpenCV convention) lies inside the projected triangle (top-left
 // fill rule, vertices snapped to 1/256 pixel), and its depth is the exact
 // intersection of the pixel's ray with the triangle's plane (1/z is linear in
-// the image). Back faces are drawn too (meshes may have inconsistent winding).
+// the image). Back faces are drawn too (meshes may have inconsistent winding)
+// unless setCullBackFaces() says the mesh is closed and wound outwards.
 // Triangles crossing the near plane are clipped against it, so a large plane
 // reaching behind the camera renders correctly. Drawing several meshes into
 // the same buffers composes a scene: each call depth-tests against what is
@@ -77,6 +78,13 @@ public:
 	void setNearPlane(float nearMm) { near_ = nearMm; }
 	float nearPlane() const { return near_; }
 
+	// Skip triangles that face away from the camera. Only for a closed
+	// mesh wound consistently outwards (isClosedOutward()) seen from
+	// outside: its back faces always lie behind its front faces, so the
+	// depth is the same, at about half the triangles' cost.
+	void setCullBackFaces(bool cull) { cullBackFaces_ = cull; }
+	bool cullBackFaces() const { return cullBackFaces_; }
+
 private:
 	// Scratch per vertex, split so the per-triangle setup touches only the
 	// 8-byte snapped image position (1/256 pixel; sx is kNoScreen when the
@@ -94,6 +102,7 @@ private:
 	std::span<Eigen::Vector3f> camera_; // camera coordinates, mm
 	size_t capacity_ = 0;
 	float near_ = 1.0f;
+	bool cullBackFaces_ = false;
 };
 
 } // namespace ihf

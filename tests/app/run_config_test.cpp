@@ -135,6 +135,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.icp, b.icp);
 	EXPECT_EQ(a.icpCandidates, b.icpCandidates);
 	EXPECT_EQ(a.polishForestBests, b.polishForestBests);
+	EXPECT_EQ(a.cullBackFaces, b.cullBackFaces);
 	EXPECT_EQ(a.finalIcpIterations, b.finalIcpIterations);
 	EXPECT_EQ(a.targetParts, b.targetParts);
 	EXPECT_EQ(a.frameBudgetMs, b.frameBudgetMs);

@@ -2,6 +2,7 @@
 // Mesh measures: bounding box, exact diameter (against brute force), and
 // degenerate-face counting.
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -103,6 +104,101 @@ TEST(Mesh, CountsDegenerateFaces)
 		{0, 1, 9}, // index out of range
 	};
 	EXPECT_EQ(countDegenerateFaces(m), 5u);
+}
+
+// Closed, oriented and wound outwards: a tetrahedron and a closed LM-O mesh
+// are; a flipped face, a missing face or all faces turned inwards are not.
+// A degenerate face (a repeated index) is left out of the check.
+TEST(Mesh, ClosedOutwardNeedsEveryEdgeTwiceOppositeWaysAndAPositiveVolume)
+{
+	Mesh tet;
+	tet.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+	tet.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+	EXPECT_TRUE(isClosedOutward(tet));
+
+	Mesh flipped = tet;
+	std::swap(flipped.faces[1][1], flipped.faces[1][2]);
+	EXPECT_FALSE(isClosedOutward(flipped));
+
+	Mesh open = tet;
+	open.faces.pop_back();
+	EXPECT_FALSE(isClosedOutward(open));
+
+	Mesh inward = tet;
+	for (auto &f : inward.faces)
+		std::swap(f[1], f[2]);
+	EXPECT_FALSE(isClosedOutward(inward));
+
+	Mesh degenerate = tet;
+	degenerate.faces.push_back({2, 2, 3});
+	EXPECT_TRUE(isClosedOutward(degenerate));
+
+	Mesh badIndex = tet;
+	badIndex.faces.push_back({0, 1, 9});
+	EXPECT_FALSE(isClosedOutward(badIndex));
+	EXPECT_FALSE(isClosedOutward(Mesh{}));
+
+	auto ape = loadPly(test::lmoDir() / "models" / "obj_000001.ply");
+	ASSERT_TRUE(ape.ok());
+	EXPECT_TRUE(isClosedOutward(*ape));
+}
+
+// Faces wound the wrong way round are turned, a shell wound inwards turns
+// whole, each shell on its own; an open mesh is not made closed. The LM-O
+// can has a few faces the wrong way round and is closed after.
+TEST(Mesh, OrientingTurnsTheFewWrongFacesAndInwardShells)
+{
+	Mesh tet;
+	tet.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+	tet.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+
+	Mesh flipped = tet;
+	std::swap(flipped.faces[1][1], flipped.faces[1][2]);
+	ASSERT_FALSE(isClosedOutward(flipped));
+	EXPECT_TRUE(orientClosedOutward(flipped));
+	EXPECT_EQ(flipped.faces, tet.faces);
+
+	// Two shells, the second (moved away) wound inwards with a face the
+	// other way round again.
+	Mesh two = tet;
+	for (const Eigen::Vector3f &v : tet.vertices)
+		two.vertices.push_back(v + Eigen::Vector3f(5, 0, 0));
+	for (auto f : tet.faces) {
+		std::swap(f[1], f[2]);
+		two.faces.push_back({f[0] + 4, f[1] + 4, f[2] + 4});
+	}
+	std::swap(two.faces[6][1], two.faces[6][2]);
+	ASSERT_FALSE(isClosedOutward(two));
+	EXPECT_TRUE(orientClosedOutward(two));
+	EXPECT_TRUE(isClosedOutward(two));
+
+	// Two shells touching along an edge (the simplified can has such a
+	// pinch): that edge's four faces tie no winding, the rest still turns.
+	Mesh pinch = tet;
+	pinch.vertices.push_back({0, -1, 0}); // the tetrahedron turned half round the x axis
+	pinch.vertices.push_back({0, 0, -1});
+	for (auto f : tet.faces) {
+		for (uint32_t &i : f)
+			i = i == 2 ? 4 : i == 3 ? 5 : i;
+		pinch.faces.push_back(f);
+	}
+	EXPECT_TRUE(isClosedOutward(pinch));
+	std::swap(pinch.faces[7][1], pinch.faces[7][2]);
+	ASSERT_FALSE(isClosedOutward(pinch));
+	EXPECT_TRUE(orientClosedOutward(pinch));
+
+	Mesh open = tet;
+	open.faces.pop_back();
+	EXPECT_FALSE(orientClosedOutward(open));
+	Mesh fin = tet; // an edge of three faces
+	fin.vertices.push_back({1, 1, 1});
+	fin.faces.push_back({0, 1, 4});
+	EXPECT_FALSE(orientClosedOutward(fin));
+
+	auto can = loadPly(test::lmoDir() / "models" / "obj_000005.ply");
+	ASSERT_TRUE(can.ok());
+	EXPECT_FALSE(isClosedOutward(*can));
+	EXPECT_TRUE(orientClosedOutward(*can));
 }
 
 } // namespace

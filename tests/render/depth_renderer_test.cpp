@@ -2,6 +2,7 @@
 // DepthRenderer against analytic geometry: planes, a sphere, the fill rule,
 // the z-buffer, near-plane clipping, windows and argument errors.
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -568,6 +569,44 @@ TEST(DepthRenderer, ErrorsLeaveBuffersUntouched)
 	auto ok = r.render(sphere, pose, K, depth.view(), label.view(), 1, {290, 220});
 	ASSERT_TRUE(ok.ok());
 	EXPECT_GT(ok->pixelsWritten, 100);
+}
+
+// A closed mesh wound outwards, seen from outside: without its back faces
+// the same pixels are covered at the same depth (up to grazing triangles'
+// clamped depth at the silhouette), with about half the triangles drawn.
+TEST(DepthRenderer, CullingAClosedMeshsBackFacesKeepsItsDepth)
+{
+	const CameraIntrinsics K = lmoCamera();
+	auto ape = loadPly(test::lmoDir() / "models" / "obj_000001.ply");
+	ASSERT_TRUE(ape.ok());
+	const Mesh sphere = test::icosphere(50, 4);
+	const Mesh &apeMesh = *ape;
+	for (const Mesh *mesh : {&sphere, &apeMesh}) {
+		ASSERT_TRUE(isClosedOutward(*mesh));
+		for (int turn = 0; turn < 4; ++turn) {
+			const Pose pose = makePose({0.3, 1, 0.2 * turn}, 40.0 * turn + 10, {20, -15, 650});
+			DepthRenderer r(mesh->vertices.size());
+			DepthImageMm all(640, 480), culled(640, 480);
+			auto a = r.render(*mesh, pose, K, all.view());
+			r.setCullBackFaces(true);
+			auto c = r.render(*mesh, pose, K, culled.view());
+			ASSERT_TRUE(a.ok() && c.ok());
+			int covered = 0, differ = 0;
+			float worst = 0;
+			for (int v = 0; v < 480; ++v)
+				for (int u = 0; u < 640; ++u) {
+					ASSERT_EQ(all.at(u, v) > 0, culled.at(u, v) > 0) << u << "," << v;
+					covered += all.at(u, v) > 0;
+					const float d = std::abs(all.at(u, v) - culled.at(u, v));
+					differ += d > 0;
+					worst = std::max(worst, d);
+				}
+			EXPECT_GT(covered, 1000);
+			EXPECT_LE(differ, covered / 100) << "turn " << turn;
+			EXPECT_LT(worst, 1.0f) << "turn " << turn;
+			EXPECT_LT(c->trianglesDrawn, a->trianglesDrawn * 6 / 10) << "turn " << turn;
+		}
+	}
 }
 
 } // namespace
