@@ -108,6 +108,20 @@ protected:
 		return {r, e.stats()};
 	}
 
+	// Small view templates (40 directions x 32 points) on the shared model
+	// for one test, taken off again at its end.
+	struct WithViewTemplates {
+		explicit WithViewTemplates(ObjectModel &m) : model(m)
+		{
+			auto points = buildViewTemplatePoints(m.mesh(), m.params().diameter, {40, 32});
+			EXPECT_TRUE(points) << points.error().message;
+			if (points)
+				m.attachViewTemplates(40, 32, std::move(*points));
+		}
+		~WithViewTemplates() { model.attachViewTemplates(0, 0, {}); }
+		ObjectModel &model;
+	};
+
 	static test::SmallModel *model_;
 	static DepthImageMm *depth_;
 	static PixelBox box_;
@@ -231,13 +245,8 @@ TEST_F(EstimatorBudget, BoxesShareTheFrame)
 TEST_F(EstimatorBudget, ViewSearchRunsUnderTheBudgetAndCountsTheBoxOnce)
 {
 	ObjectModel &model = *model_->model;
-	auto points = buildViewTemplatePoints(model.mesh(), model.params().diameter, {40, 32});
-	ASSERT_TRUE(points) << points.error().message;
-	model.attachViewTemplates(40, 32, std::move(*points));
-	struct Detach {
-		ObjectModel &m;
-		~Detach() { m.attachViewTemplates(0, 0, {}); }
-	} detach{model};
+	const WithViewTemplates views(model);
+	ASSERT_FALSE(model.viewTemplates().empty());
 
 	EstimatorConfig c = config(2, 1e6f);
 	c.views.inplane = 6;
@@ -262,13 +271,8 @@ TEST_F(EstimatorBudget, ViewSearchRunsUnderTheBudgetAndCountsTheBoxOnce)
 TEST_F(EstimatorBudget, LaterViewSearchesLeaveRoomForThePolish)
 {
 	ObjectModel &model = *model_->model;
-	auto points = buildViewTemplatePoints(model.mesh(), model.params().diameter, {40, 32});
-	ASSERT_TRUE(points) << points.error().message;
-	model.attachViewTemplates(40, 32, std::move(*points));
-	struct Detach {
-		ObjectModel &m;
-		~Detach() { m.attachViewTemplates(0, 0, {}); }
-	} detach{model};
+	const WithViewTemplates views(model);
+	ASSERT_FALSE(model.viewTemplates().empty());
 
 	const DepthImageMm depth = withWall();
 	EstimatorConfig c = config(0, 0.0f, true);
