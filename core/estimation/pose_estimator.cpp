@@ -822,6 +822,14 @@ bool PoseEstimator::renderPose(const Pose &pose, const CameraIntrinsics &K, cons
 	return static_cast<bool>(rendererOf(slot).render(model.renderMesh(), pose, K, view));
 }
 
+void PoseEstimator::setCulling(const ObjectModel &model, const EstimatorConfig &config)
+{
+	const bool cull = config.cullBackFaces && model.renderMeshClosed();
+	renderer_.setCullBackFaces(cull);
+	for (DepthRenderer &r : moreRenderers_)
+		r.setCullBackFaces(cull);
+}
+
 void PoseEstimator::setRenderViews(int w, int h)
 {
 	const size_t pixels = static_cast<size_t>(w) * h;
@@ -954,7 +962,7 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 	pose.R = Eigen::AngleAxisd(0.6, Eigen::Vector3d(1, 2, 0.5).normalized()).toRotationMatrix();
 	pose.t = Eigen::Vector3d(0, 0, std::max(1.5 * diameter, K.fx * diameter / side));
 	Image<float> depth(K.width, K.height, 0.0f);
-	renderer_.setCullBackFaces(config.cullBackFaces && model.renderMeshClosed());
+	setCulling(model, config);
 	auto rendered = renderer_.render(model.renderMesh(), pose, K, depth.view());
 	if (!rendered)
 		return rendered.error();
@@ -1048,10 +1056,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		out.reason = "forest histogram longer than the estimator's limit";
 		return out;
 	}
-	const bool cull = config.cullBackFaces && model.renderMeshClosed();
-	renderer_.setCullBackFaces(cull);
-	for (DepthRenderer &r : moreRenderers_)
-		r.setCullBackFaces(cull);
+	setCulling(model, config);
 	VirtualCrop cropStorage;
 	std::span<float> window = observed_;
 	if (config.windowPixels > 0 && static_cast<size_t>(config.windowPixels) < window.size())

@@ -370,6 +370,9 @@ private:
 	ImageView<float> &renderViewOf(int slot) { return slot == 0 ? renderView_ : moreRenderViews_[slot - 1]; }
 	// The render views of every slot over render_ (one window each).
 	void setRenderViews(int w, int h);
+	// Every renderer skips back faces when the config asks and the model's
+	// render mesh allows it.
+	void setCulling(const ObjectModel &model, const EstimatorConfig &config);
 	void maskToHypothesis(const HypothesisScore &s, const EstimatorConfig &config);
 	void maskToRange(float lo, float hi);
 	void maskToRange(float lo, float hi, std::span<float> out) const;

@@ -9,6 +9,23 @@
 
 namespace ihf {
 
+namespace {
+
+// A face with a repeated index covers nothing.
+bool repeatsIndex(const std::array<uint32_t, 3> &f)
+{
+	return f[0] == f[1] || f[1] == f[2] || f[2] == f[0];
+}
+
+// Six times the signed volume of the tetrahedron from the origin to face f.
+double originVolume6(const Mesh &mesh, const std::array<uint32_t, 3> &f)
+{
+	return mesh.vertices[f[0]].cast<double>().dot(
+		mesh.vertices[f[1]].cast<double>().cross(mesh.vertices[f[2]].cast<double>()));
+}
+
+} // namespace
+
 Aabb boundingBox(const Mesh &mesh)
 {
 	Aabb box;
@@ -115,7 +132,7 @@ size_t countDegenerateFaces(const Mesh &mesh)
 	size_t count = 0;
 	const size_t n = mesh.vertices.size();
 	for (const auto &f : mesh.faces) {
-		if (f[0] >= n || f[1] >= n || f[2] >= n || f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) {
+		if (f[0] >= n || f[1] >= n || f[2] >= n || repeatsIndex(f)) {
 			++count;
 			continue;
 		}
@@ -132,9 +149,6 @@ size_t countDegenerateFaces(const Mesh &mesh)
 	return count;
 }
 
-} // namespace ihf
-
-namespace ihf {
 
 /*
  * Closed and oriented: every edge is run as often one way as the other by
@@ -152,13 +166,11 @@ bool isClosedOutward(const Mesh &mesh)
 	for (const auto &f : mesh.faces) {
 		if (f[0] >= nv || f[1] >= nv || f[2] >= nv)
 			return false;
-		if (f[0] == f[1] || f[1] == f[2] || f[2] == f[0])
+		if (repeatsIndex(f))
 			continue;
 		for (int i = 0; i < 3; ++i)
 			edges.push_back(uint64_t{f[i]} << 32 | f[(i + 1) % 3]);
-		const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>(), b = mesh.vertices[f[1]].cast<double>(),
-				      c = mesh.vertices[f[2]].cast<double>();
-		volume += a.dot(b.cross(c));
+		volume += originVolume6(mesh, f);
 	}
 	if (edges.empty())
 		return false;
@@ -177,16 +189,13 @@ bool isClosedOutward(const Mesh &mesh)
 	return volume > 0.0;
 }
 
-} // namespace ihf
-
-namespace ihf {
-
 /*
  * Each edge must join an even number of faces (closed); two faces that run
  * their shared edge the same way disagree in winding, so one of them turns
- * (an edge of four faces or more, a pinch, ties none). A breadth-first walk over each connected shell fixes every face's
- * winding relative to its first face (a conflict means the shell cannot be
- * oriented); a shell whose signed volume is then negative turns whole.
+ * (an edge of four faces or more, a pinch, ties none). A breadth-first
+ * walk over each connected shell fixes every face's winding relative to
+ * its first face (a conflict means the shell cannot be oriented); a shell
+ * whose signed volume is then negative turns whole.
  */
 bool orientClosedOutward(Mesh &mesh)
 {
@@ -202,14 +211,14 @@ bool orientClosedOutward(Mesh &mesh)
 		const auto &f = mesh.faces[fi];
 		if (f[0] >= nv || f[1] >= nv || f[2] >= nv)
 			return false;
-		if (f[0] == f[1] || f[1] == f[2] || f[2] == f[0])
-			continue; // covers nothing
+		if (repeatsIndex(f))
+			continue;
 		for (int i = 0; i < 3; ++i) {
 			const uint32_t a = f[i], b = f[(i + 1) % 3];
 			uses.push_back({uint64_t{std::min(a, b)} << 32 | std::max(a, b), static_cast<uint32_t>(fi), a < b});
 		}
 	}
-	if (uses.empty() || uses.size() % 2 != 0)
+	if (uses.empty())
 		return false;
 	std::sort(uses.begin(), uses.end(), [](const EdgeUse &x, const EdgeUse &y) { return x.key < y.key; });
 	// Per face its three neighbours and whether each must turn relative to it.
@@ -241,8 +250,7 @@ bool orientClosedOutward(Mesh &mesh)
 	std::vector<uint32_t> queue;
 	queue.reserve(nf);
 	for (size_t seed = 0; seed < nf; ++seed) {
-		const auto &sf = mesh.faces[seed];
-		if (flip[seed] >= 0 || sf[0] == sf[1] || sf[1] == sf[2] || sf[2] == sf[0])
+		if (flip[seed] >= 0 || repeatsIndex(mesh.faces[seed]))
 			continue;
 		// One shell: orient it from the seed, then turn it outwards.
 		queue.clear();
@@ -265,9 +273,7 @@ bool orientClosedOutward(Mesh &mesh)
 		for (const uint32_t f : queue) {
 			if (flip[f])
 				std::swap(mesh.faces[f][1], mesh.faces[f][2]);
-			const auto &t = mesh.faces[f];
-			volume += mesh.vertices[t[0]].cast<double>().dot(
-				mesh.vertices[t[1]].cast<double>().cross(mesh.vertices[t[2]].cast<double>()));
+			volume += originVolume6(mesh, mesh.faces[f]);
 		}
 		if (volume < 0.0)
 			for (const uint32_t f : queue)

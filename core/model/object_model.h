@@ -40,7 +40,7 @@ public:
 	// Whether the attached render mesh is closed and (after turning any
 	// faces wound the wrong way) wound outwards, so that its back faces can
 	// be skipped; the mesh itself is not checked (false).
-	bool renderMeshClosed() const { return renderClosed_ && !renderMesh_.faces.empty(); }
+	bool renderMeshClosed() const { return renderClosed_; }
 	void attachViewTemplates(int viewpoints, int pointsPerView, std::vector<Eigen::Vector3f> points)
 	{
 		ownedViews_ = std::move(points);

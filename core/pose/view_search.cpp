@@ -336,10 +336,8 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		r.t0 = centreF;
 		if (anchorDepth > 0 && m > 0) {
 			// In-plane turns keep every point's depth: one median per view.
-			for (int i = 0; i < m; ++i)
-				s.depths[i] = r.points.z[i];
-			std::nth_element(s.depths.begin(), s.depths.begin() + m / 2, s.depths.begin() + m);
-			r.t0.z() = anchorDepth - s.depths[m / 2];
+			std::copy_n(r.points.z.begin(), m, s.depths.begin());
+			r.t0.z() = anchorDepth - medianSelect(std::span<float>(s.depths.data(), static_cast<size_t>(m)));
 		}
 	};
 	auto runTasks = [&](int tasks, auto &&task) {
