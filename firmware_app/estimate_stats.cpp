@@ -47,16 +47,19 @@ void printEstimateStats(std::FILE *out, const EstimateRunSummary &sum)
 			     c.calls ? ms(c.totalNs) / static_cast<double>(c.calls) : 0.0, ms(c.maxNs),
 			     total > 0 ? 100.0 * static_cast<double>(c.totalNs) / static_cast<double>(total) : 0.0);
 	}
+	char tight[40] = "";
+	if (sum.frameBudgetMs > 0)
+		std::snprintf(tight, sizeof(tight), " (%llu tight)", static_cast<unsigned long long>(s.tightBoxes));
 	if (sum.frameBudgetMs > 0)
 		std::fprintf(out, "ihf estimate: budget %g ms per frame: ", sum.frameBudgetMs);
 	else
 		std::fprintf(out, "ihf estimate: no frame budget: ");
 	std::fprintf(out,
-		     "%llu frames, %llu boxes, %llu refinement iterations, %llu boxes cut short, "
+		     "%llu frames, %llu boxes%s, %llu refinement iterations, %llu boxes cut short, "
 		     "%llu ICP skipped, %llu frame overruns, %llu box overruns (%llu already in the initial "
 		     "registration), worst frame %.1f ms\n",
 		     static_cast<unsigned long long>(s.frames), static_cast<unsigned long long>(s.boxes),
-		     static_cast<unsigned long long>(s.iterations), static_cast<unsigned long long>(s.budgetStops),
+		     tight, static_cast<unsigned long long>(s.iterations), static_cast<unsigned long long>(s.budgetStops),
 		     static_cast<unsigned long long>(s.icpSkipped), static_cast<unsigned long long>(s.frameOverruns),
 		     static_cast<unsigned long long>(s.boxOverruns),
 		     static_cast<unsigned long long>(s.registrationOverruns), ms(s.worstFrameNs));
@@ -93,6 +96,7 @@ std::string estimateStatsJson(const EstimateRunSummary &sum)
 	j["budget"] = {{"frame_ms", sum.frameBudgetMs},
 		       {"frames", s.frames},
 		       {"boxes", s.boxes},
+		       {"tight_boxes", s.tightBoxes},
 		       {"refinement_iterations", s.iterations},
 		       {"budget_stops", s.budgetStops},
 		       {"icp_skipped", s.icpSkipped},

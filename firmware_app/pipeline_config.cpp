@@ -387,6 +387,13 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	budget.get("target_parts", e.budgetTargetParts);
 	budget.get("ibs_max_points", e.budgetIbsMaxPoints);
 	budget.get("ibs_cg_iterations", e.budgetIbsCgIterations);
+	budget.get("tight_below_ms", e.budgetTightMs);
+	budget.get("tight_target_parts", e.tightTargetParts);
+	budget.get("tight_max_shift_votes", e.tightMaxShiftVotes);
+	budget.get("tight_ibs_max_points", e.tightIbsMaxPoints);
+	budget.get("tight_ibs_cg_iterations", e.tightIbsCgIterations);
+	budget.get("tight_max_hypotheses", e.tightMaxHypotheses);
+	budget.get("tight_rotation_modes", e.tightRotationModes);
 	budget.get("scale_by_box", e.budgetScaleByBox);
 	budget.get("max_window_pixels", e.budgetWindowPixels);
 	budget.get("margin", e.budgetMargin);
@@ -477,6 +484,13 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.budgetTargetParts >= 0, "budget.target_parts"),
 			  inRange(e.budgetIbsMaxPoints >= 0, "budget.ibs_max_points"),
 			  inRange(e.budgetIbsCgIterations >= 0, "budget.ibs_cg_iterations"),
+			  inRange(e.budgetTightMs >= 0, "budget.tight_below_ms"),
+			  inRange(e.tightTargetParts >= 0, "budget.tight_target_parts"),
+			  inRange(e.tightMaxShiftVotes >= 0, "budget.tight_max_shift_votes"),
+			  inRange(e.tightIbsMaxPoints >= 0, "budget.tight_ibs_max_points"),
+			  inRange(e.tightIbsCgIterations >= 0, "budget.tight_ibs_cg_iterations"),
+			  inRange(e.tightMaxHypotheses >= 0, "budget.tight_max_hypotheses"),
+			  inRange(e.tightRotationModes >= 0, "budget.tight_rotation_modes"),
 			  inRange(e.budgetWindowPixels >= 0, "budget.max_window_pixels"),
 			  inRange(e.budgetMargin >= 0 && e.budgetMargin <= 10, "budget.margin"),
 			  inRange(s.limits.threads >= 0 && s.limits.threads <= WorkerPool::kMaxThreads, "limits.threads")})

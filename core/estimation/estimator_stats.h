@@ -36,6 +36,8 @@ struct EstimatorStats {
 	uint64_t registrationOverruns = 0; // of those, past it at the end of the initial
 	                                   // registration already (never cut short: the
 	                                   // frame is shorter than it)
+	uint64_t tightBoxes = 0;          // boxes run with the tight budget's leaner
+	                                  // registration (EstimatorConfig::budgetTightMs)
 	int64_t worstFrameNs = 0;
 
 	size_t arenaCapacity = 0;

@@ -235,6 +235,7 @@ EstimatorStats PoseEstimator::stats() const
 	s.budgetStops = budgetStops_;
 	s.icpSkipped = icpSkipped_;
 	s.registrationOverruns = registrationOverruns_;
+	s.tightBoxes = tightBoxes_;
 	s.frameOverruns = budget_.frameOverruns();
 	s.boxOverruns = budget_.boxOverruns();
 	s.worstFrameNs = budget_.worstFrameNs();
@@ -1000,7 +1001,7 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 
 	timer_.reset();
 	budget_ = FrameBudget{};
-	iterationsRun_ = budgetStops_ = icpSkipped_ = registrationOverruns_ = 0;
+	iterationsRun_ = budgetStops_ = icpSkipped_ = registrationOverruns_ = tightBoxes_ = 0;
 	peaks_ = {};
 	if (!e.found)
 		return makeError(Errc::kNoPose, std::string("warm-up box gave no pose: ") + e.reason);
@@ -1034,6 +1035,17 @@ EstimatorConfig underBudget(EstimatorConfig c)
 	return c;
 }
 
+EstimatorConfig underTightBudget(EstimatorConfig c)
+{
+	c.targetParts = underBound(c.targetParts, c.tightTargetParts);
+	c.maxShiftVotes = underBound(c.maxShiftVotes, c.tightMaxShiftVotes);
+	c.ibsMaxPoints = underBound(c.ibsMaxPoints, c.tightIbsMaxPoints);
+	c.ibsCgIterations = underBound(c.ibsCgIterations, c.tightIbsCgIterations);
+	c.maxHypotheses = underBound(c.maxHypotheses, c.tightMaxHypotheses);
+	c.rotationModes = underBound(c.rotationModes, c.tightRotationModes);
+	return c;
+}
+
 PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraIntrinsics &K,
 				     const PixelBox &box, const ObjectModel &model,
 				     const EstimatorConfig &requested)
@@ -1041,8 +1053,14 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	PoseEstimate out;
 	BoxScope scope(*this, requested);
 	EstimatorConfig budgeted;
-	if (!budget_.unlimited())
+	if (!budget_.unlimited()) {
 		budgeted = underBudget(requested);
+		const double shareMs = static_cast<double>(budget_.boxDeadline() - boxStartNs_) * 1e-6;
+		if (shareMs < static_cast<double>(requested.budgetTightMs)) {
+			budgeted = underTightBudget(budgeted);
+			++tightBoxes_;
+		}
+	}
 	const EstimatorConfig &config = budget_.unlimited() ? requested : budgeted;
 	if (!valid_) {
 		out.reason = "estimator has no memory (arena allocation failed)";

@@ -136,6 +136,19 @@ struct EstimatorConfig {
 	int ibsCgIterations = 0;
 	int budgetIbsMaxPoints = 500;
 	int budgetIbsCgIterations = 10;
+	// A box whose share of its frame is shorter than budgetTightMs runs a
+	// leaner registration still (0: never): at 10 ms the registration took
+	// 6-8 of them and left the view search and the polish no room; with
+	// these values it takes ~3 (BENCHMARKS.md, session 24). With room to
+	// spare the fuller vote is worth its time. Each bounds its setting as
+	// the budget* ones do (0: as under the budget).
+	float budgetTightMs = 24.0f;
+	int tightTargetParts = 10;
+	int tightMaxShiftVotes = 1024;
+	int tightIbsMaxPoints = 300;
+	int tightIbsCgIterations = 6;
+	int tightMaxHypotheses = 2;
+	int tightRotationModes = 2;
 	// A box's window at most this many pixels (0: EstimatorLimits::
 	// maxWindowPixels); a larger box is processed downsampled, as at the
 	// limit. Inside a budget the budget one: the render, score and polish
@@ -155,8 +168,10 @@ struct EstimatorConfig {
 	bool budgetScaleByBox = true;
 };
 
-// The settings a box runs with inside a frame budget.
+// The settings a box runs with inside a frame budget; and inside a tight
+// one (a share shorter than budgetTightMs), applied to underBudget()'s.
 EstimatorConfig underBudget(EstimatorConfig c);
+EstimatorConfig underTightBudget(EstimatorConfig c);
 
 struct EstimatorLimits {
 	int maxWindowPixels = 200 * 200;
@@ -411,7 +426,7 @@ private:
 	// it; the warm-up's box is the largest one.
 	double boxWork_ = 1.0;
 	FrameBudget budget_;
-	uint64_t iterationsRun_ = 0, budgetStops_ = 0, icpSkipped_ = 0, registrationOverruns_ = 0;
+	uint64_t iterationsRun_ = 0, budgetStops_ = 0, icpSkipped_ = 0, registrationOverruns_ = 0, tightBoxes_ = 0;
 	// The current box's start and its initial registration's length (box
 	// start to the end of the k = 0 pass), as the budget sees them.
 	int64_t boxStartNs_ = 0, registrationNs_ = 0;

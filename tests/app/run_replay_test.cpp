@@ -392,7 +392,7 @@ TEST_F(RunReplay, EstimationBudgetFromTheCommandLine)
 	// refinement was cut.
 	const std::string n = std::to_string(tight.poses.size());
 	EXPECT_NE(r.output.find("budget 0.001 ms: overruns " + std::to_string(frames.size()) + " frames " + n +
-				" boxes (" + n + " in the initial registration) cut-short " + n + " iterations 0"),
+				" boxes (" + n + " in the initial registration) cut-short " + n + " iterations 0 tight " + n),
 		  std::string::npos)
 		<< r.output;
 

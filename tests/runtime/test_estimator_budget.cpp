@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -56,6 +57,7 @@ protected:
 		c.budgetIbsCgIterations = 0;
 		c.budgetWindowPixels = 0;
 		c.budgetMargin = 0; // predictions are the averages
+		c.budgetTightMs = 0; // no leaner registration in short frames
 		// The step clock's costs do not grow with the box: predictions
 		// as measured.
 		c.budgetScaleByBox = false;
@@ -659,6 +661,53 @@ TEST_F(EstimatorBudget, ARegistrationLongerThanTheFrameIsCountedApart)
 	EXPECT_EQ(s.registrationOverruns, 0u);
 }
 
+// A box whose share of the frame is shorter than budgetTightMs votes with
+// the tight profile's fewer parts; a longer share, or a frame of boxes
+// whose shares are long enough, with the budget's.
+TEST_F(EstimatorBudget, AShortShareRunsTheLeanerRegistration)
+{
+	EstimatorConfig c = config(0, 0.0f);
+	c.budgetTargetParts = 40;
+	c.tightTargetParts = 8;
+	c.budgetTightMs = 300.0f;
+	test::StepClock clock(kMs);
+	PoseEstimator e({}, &clock);
+	auto runIn = [&](float budgetMs, int boxes) {
+		e.beginFrame(boxes, budgetMs);
+		std::vector<PoseEstimate> r;
+		for (int b = 0; b < boxes; ++b)
+			r.push_back(run(e, c));
+		e.endFrame();
+		return r;
+	};
+	const PoseEstimate free = runIn(0.0f, 1)[0];
+	ASSERT_TRUE(free.found) << free.reason;
+	ASSERT_GT(free.parts, 40) << "the box must give more parts than either bound";
+	EXPECT_EQ(e.stats().tightBoxes, 0u);
+
+	const PoseEstimate roomy = runIn(1000.0f, 1)[0]; // a 1000 ms share
+	ASSERT_TRUE(roomy.found) << roomy.reason;
+	EXPECT_LE(roomy.parts, 2 * 40);
+	EXPECT_GT(roomy.parts, 2 * 8);
+	EXPECT_EQ(e.stats().tightBoxes, 0u);
+
+	const PoseEstimate tight = runIn(200.0f, 1)[0];
+	ASSERT_TRUE(tight.found) << tight.reason;
+	EXPECT_LE(tight.parts, 2 * 8);
+	EXPECT_EQ(e.stats().tightBoxes, 1u);
+
+	// 1000 ms shared by four boxes: the first one's share is 250 ms (the
+	// later ones share what it left).
+	const std::vector<PoseEstimate> shared = runIn(1000.0f, 4);
+	ASSERT_TRUE(shared[0].found) << shared[0].reason;
+	EXPECT_LE(shared[0].parts, 2 * 8);
+	const uint64_t tightBoxes = e.stats().tightBoxes;
+	EXPECT_GE(tightBoxes, 2u);
+	c.budgetTightMs = 0; // off
+	EXPECT_GT(runIn(200.0f, 1)[0].parts, 2 * 8);
+	EXPECT_EQ(e.stats().tightBoxes, tightBoxes);
+}
+
 TEST_F(EstimatorBudget, WarmUpSaysWhatIsWrong)
 {
 	test::StepClock clock(kMs);
@@ -714,4 +763,38 @@ TEST(EstimatorUnderBudget, BoundsIterationsSlabsPartsTheFitAndTheWindow)
 	c.ibsMaxPoints = 800; // already below
 	c.ibsCgIterations = 20;
 	EXPECT_EQ(fitAndWindow(1000, 10, 12000), std::tuple(800, 10, 12000));
+}
+
+// The tight profile bounds the registration further, as the budget does:
+// never above the setting it bounds, 0 leaving it as it is.
+TEST(EstimatorUnderBudget, TheTightProfileBoundsTheRegistration)
+{
+	ihf::EstimatorConfig c;
+	c.targetParts = 600;
+	c.budgetTargetParts = 30;
+	c.maxShiftVotes = 16384;
+	c.maxHypotheses = 6;
+	c.rotationModes = 3;
+	c.ibsMaxPoints = 0;
+	c.budgetIbsMaxPoints = 500;
+	c.tightTargetParts = 10;
+	c.tightMaxShiftVotes = 1024;
+	c.tightMaxHypotheses = 2;
+	c.tightRotationModes = 2;
+	c.tightIbsMaxPoints = 300;
+	c.tightIbsCgIterations = 6;
+	ihf::EstimatorConfig t = ihf::underTightBudget(ihf::underBudget(c));
+	EXPECT_EQ(t.targetParts, 10);
+	EXPECT_EQ(t.maxShiftVotes, 1024);
+	EXPECT_EQ(t.maxHypotheses, 2);
+	EXPECT_EQ(t.rotationModes, 2);
+	EXPECT_EQ(t.ibsMaxPoints, 300);
+	EXPECT_EQ(t.ibsCgIterations, 6);
+	c.rotationModes = 1; // already below
+	c.tightTargetParts = c.tightMaxShiftVotes = c.tightMaxHypotheses = 0;
+	t = ihf::underTightBudget(ihf::underBudget(c));
+	EXPECT_EQ(t.rotationModes, 1);
+	EXPECT_EQ(t.targetParts, 30);
+	EXPECT_EQ(t.maxShiftVotes, 16384);
+	EXPECT_EQ(t.maxHypotheses, 6);
 }

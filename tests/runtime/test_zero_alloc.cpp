@@ -288,6 +288,8 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 	EXPECT_GT(s.stages[static_cast<int>(Stage::kBank)].calls, 0u);
 	EXPECT_GT(s.stages[static_cast<int>(Stage::kViews)].calls, 0u);
 	EXPECT_GT(s.stages[static_cast<int>(Stage::kHalfTurns)].calls, 0u);
+	// A budgeted frame's first box has a third of 60 ms: the tight profile.
+	EXPECT_GT(s.tightBoxes, 0u);
 	std::printf("frames %d, boxes found %d, no pose %d, budget stops %d, arena used %zu of %zu bytes\n",
 		    kWarmUp + kFrames, found, noPose, budgetStops, s.arenaHighWater, s.arenaCapacity);
 	for (int i = 0; i < kStageCount; ++i)
