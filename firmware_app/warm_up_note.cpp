@@ -16,9 +16,10 @@ std::string warmUpNote(int objId, const Expected<WarmUpCost> &cost, float frameB
 	if (!(frameBudgetMs > 0) || !(cost->registrationMs > frameBudgetMs))
 		return {};
 	std::snprintf(line, sizeof(line),
-		      "warm-up of object %d: its initial registration took %.1f ms on the largest box, more than "
+		      "warm-up of object %d: its initial registration took %.1f ms on the largest box%s, more than "
 		      "the %g ms frame budget; boxes that large will overrun (the registration is never cut short)",
-		      objId, cost->registrationMs, static_cast<double>(frameBudgetMs));
+		      objId, cost->registrationMs, cost->tight ? " (the tight profile)" : "",
+		      static_cast<double>(frameBudgetMs));
 	return line;
 }
 

@@ -987,6 +987,9 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 	const PixelBox box{x0 - mx, y0 - my, x1 - x0 + 1 + 2 * mx, y1 - y0 + 1 + 2 * my};
 
 	EstimatorConfig c = underBudget(config);
+	const bool tight = config.frameBudgetMs > 0 && config.frameBudgetMs < config.budgetTightMs;
+	if (tight)
+		c = underTightBudget(c);
 	c.frameBudgetMs = 0;
 	EstimateObserver *observer = observer_;
 	observer_ = nullptr;
@@ -998,6 +1001,8 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 	WarmUpCost cost;
 	cost.registrationMs = static_cast<double>(registrationNs_) * 1e-6;
 	cost.boxMs = static_cast<double>(budget_.worstFrameNs()) * 1e-6;
+	cost.tight = tight;
+	cost.parts = e.parts;
 
 	timer_.reset();
 	budget_ = FrameBudget{};

@@ -241,6 +241,10 @@ struct PoseEstimate {
 struct WarmUpCost {
 	double registrationMs = 0;
 	double boxMs = 0; // the whole box, view search and polish included
+	// A frame shorter than budgetTightMs gives each of its boxes the tight
+	// profile; the warm-up box then runs that one too.
+	bool tight = false;
+	int parts = 0; // the warm-up box's parts
 };
 
 class PoseEstimator

@@ -26,6 +26,10 @@ TEST(WarmUpNote, AFrameShorterThanTheRegistrationIsSaid)
 	EXPECT_TRUE(has(note, "overrun")) << note;
 	EXPECT_EQ(warmUpNote(20, cost, 12.5f), "") << "the registration fits; the rest is cut to the frame";
 	EXPECT_EQ(warmUpNote(20, cost, 0.0f), "") << "no budget";
+	EXPECT_FALSE(has(note, "tight")) << note;
+	WarmUpCost tight = cost;
+	tight.tight = true;
+	EXPECT_TRUE(has(warmUpNote(20, tight, 10.0f), "12.3 ms on the largest box (the tight profile)"));
 }
 
 TEST(WarmUpNote, AFailedWarmUpSaysWhyAndWhatFollows)

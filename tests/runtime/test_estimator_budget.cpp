@@ -708,6 +708,31 @@ TEST_F(EstimatorBudget, AShortShareRunsTheLeanerRegistration)
 	EXPECT_EQ(e.stats().tightBoxes, tightBoxes);
 }
 
+// A frame shorter than the tight share gives every box the tight profile:
+// the warm-up box runs it too, and says so.
+TEST_F(EstimatorBudget, WarmUpRunsTheProfileOfTheFramesBoxes)
+{
+	EstimatorConfig c = config(0, 0.0f);
+	c.budgetTargetParts = 40;
+	c.tightTargetParts = 8;
+	c.budgetTightMs = 24.0f;
+	auto warmUp = [&](float frameMs) {
+		test::StepClock clock(kMs);
+		PoseEstimator e({}, &clock);
+		c.frameBudgetMs = frameMs;
+		return e.warmUp(*model_->model, test::kKinect, c);
+	};
+	const Expected<WarmUpCost> roomy = warmUp(33.0f);
+	ASSERT_TRUE(roomy.ok()) << roomy.error().message.view();
+	EXPECT_FALSE(roomy->tight);
+	EXPECT_GT(roomy->parts, 2 * 8);
+	const Expected<WarmUpCost> tight = warmUp(10.0f);
+	ASSERT_TRUE(tight.ok()) << tight.error().message.view();
+	EXPECT_TRUE(tight->tight);
+	EXPECT_GT(tight->parts, 0);
+	EXPECT_LE(tight->parts, 2 * 8);
+}
+
 TEST_F(EstimatorBudget, WarmUpSaysWhatIsWrong)
 {
 	test::StepClock clock(kMs);
