@@ -48,12 +48,12 @@ void printEstimateStats(std::FILE *out, const EstimateRunSummary &sum)
 			     total > 0 ? 100.0 * static_cast<double>(c.totalNs) / static_cast<double>(total) : 0.0);
 	}
 	char tight[40] = "";
-	if (sum.frameBudgetMs > 0)
+	if (sum.frameBudgetMs > 0) {
 		std::snprintf(tight, sizeof(tight), " (%llu tight)", static_cast<unsigned long long>(s.tightBoxes));
-	if (sum.frameBudgetMs > 0)
 		std::fprintf(out, "ihf estimate: budget %g ms per frame: ", sum.frameBudgetMs);
-	else
+	} else {
 		std::fprintf(out, "ihf estimate: no frame budget: ");
+	}
 	std::fprintf(out,
 		     "%llu frames, %llu boxes%s, %llu refinement iterations, %llu boxes cut short, "
 		     "%llu ICP skipped, %llu frame overruns, %llu box overruns (%llu already in the initial "
