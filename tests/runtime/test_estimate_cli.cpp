@@ -165,6 +165,11 @@ TEST_F(EstimateCli, ABadBudgetValueNamesFileAndKey)
 	EXPECT_EQ(r.exitCode, 1) << r.output;
 	EXPECT_NE(r.output.find("bad_budget.toml"), std::string::npos) << r.output;
 	EXPECT_NE(r.output.find("frame_ms"), std::string::npos) << r.output;
+	// Out of range: the tight profile's threshold cannot be negative.
+	std::ofstream(cfg) << "[budget]\ntight_below_ms = -5.0\n";
+	r = test::runIhf(args("--config '" + cfg.string() + "'"));
+	EXPECT_EQ(r.exitCode, 1) << r.output;
+	EXPECT_NE(r.output.find("budget.tight_below_ms"), std::string::npos) << r.output;
 }
 
 } // namespace
