@@ -350,6 +350,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	views.get("budget_depth_centres", e.views.budgetDepthCentres);
 	views.get("budget_depth_centre_width", e.views.budgetDepthCentreWidth);
 	views.get("budget_polish_rounds", e.views.budgetPolishRounds);
+	views.get("depth_first", e.views.depthFirst);
+	views.get("budget_depth_first", e.views.budgetDepthFirst);
 	views.get("keep", e.views.keep);
 	views.get("inlier_mm", e.views.inlierMm);
 	views.get("max_shift_mm", e.views.maxShiftMm);

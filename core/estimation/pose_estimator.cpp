@@ -415,11 +415,6 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 				     costs_.bound(Stage::kIcp, config.budgetMargin, boxWork_);
 		return boxFits(predicted);
 	};
-	for (int c = 0; c < nc; ++c) {
-		if (!searchFits())
-			return;
-		searchAt(centres[c], 0.0f, "view");
-	}
 	// Centres from the box and the depth alone: on the box's ray (the
 	// virtual crop's optical axis) at each dense slab's median depth: the
 	// registration's slabs, then thinner ones of the search's own whose
@@ -456,10 +451,28 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 				anchors[na++] = a;
 		}
 	}
-	for (size_t j = 0; j < na; ++j) {
-		if (!searchFits())
-			return;
-		searchAt(Eigen::Vector3d::Zero(), anchors[j], "view_depth");
+	// Each returns false when a search no longer fits (and the rest are off).
+	auto voted = [&]() {
+		for (int c = 0; c < nc; ++c) {
+			if (!searchFits())
+				return false;
+			searchAt(centres[c], 0.0f, "view");
+		}
+		return true;
+	};
+	auto fromDepth = [&]() {
+		for (size_t j = 0; j < na; ++j) {
+			if (!searchFits())
+				return false;
+			searchAt(Eigen::Vector3d::Zero(), anchors[j], "view_depth");
+		}
+		return true;
+	};
+	if (config.views.depthFirst) {
+		if (fromDepth())
+			voted();
+	} else if (voted()) {
+		fromDepth();
 	}
 }
 

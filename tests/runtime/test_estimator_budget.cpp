@@ -8,6 +8,8 @@
 // part plus the largest box's scratch.
 
 #include <algorithm>
+#include <string>
+#include <string_view>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -331,6 +333,47 @@ TEST_F(EstimatorBudget, LaterViewSearchesLeaveRoomForThePolish)
 
 // The half-turns of the polished best run under the budget too: with room
 // they run, and their best can only raise the score; without room none runs.
+// Under a budget the depth centres are searched before the voted centre
+// (where one search fits, it is the one that places more boxes);
+// unbudgeted, or with budget_depth_first off, the voted centre first.
+TEST_F(EstimatorBudget, UnderABudgetTheDepthCentresAreSearchedFirst)
+{
+	ObjectModel &model = *model_->model;
+	const WithViewTemplates views(model);
+	ASSERT_FALSE(model.viewTemplates().empty());
+	const DepthImageMm depth = withWall();
+	EstimatorConfig c = config(0, 0.0f);
+	c.halfTurns.candidates = 0;
+	c.views.inplane = 6;
+	c.views.depthCentres = c.views.budgetDepthCentres = 1;
+	struct SearchOrder final : EstimateObserver {
+		std::vector<std::string> stages; // each search's stage, in order
+		void onHypothesis(const HypothesisEvent &e) override
+		{
+			const std::string_view s(e.stage);
+			if ((s == "view" || s == "view_depth") && (stages.empty() || stages.back() != s))
+				stages.emplace_back(s);
+		}
+	} order;
+	test::StepClock clock(kMs);
+	PoseEstimator e({}, &clock);
+	e.setObserver(&order);
+	auto searchesIn = [&](float budgetMs) {
+		order.stages.clear();
+		e.beginFrame(1, budgetMs);
+		const PoseEstimate r = e.estimate(depth.view(), test::kKinect, box_, model, c);
+		e.endFrame();
+		EXPECT_TRUE(r.found) << r.reason;
+		return order.stages;
+	};
+	using Stages = std::vector<std::string>;
+	EXPECT_EQ(searchesIn(0.0f), (Stages{"view", "view_depth"}));
+	EXPECT_EQ(searchesIn(1e6f), (Stages{"view_depth", "view"}));
+	c.views.budgetDepthFirst = false;
+	EXPECT_EQ(searchesIn(1e6f), (Stages{"view", "view_depth"}));
+	e.setObserver(nullptr);
+}
+
 TEST_F(EstimatorBudget, HalfTurnsRunUnderTheBudget)
 {
 	EstimatorConfig c = config(2, 1e6f);
