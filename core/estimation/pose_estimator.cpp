@@ -406,14 +406,21 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 		costs_.observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
 	};
 	// Under a budget every search but the first leaves room for the polish
-	// after it (unbudgeted, everything fits).
+	// after it (unbudgeted, everything fits). A box with no room for even
+	// one search eases the search's prediction (StageCostModel::refused()):
+	// else a cost once measured too high would keep the search out of
+	// every later box (a 10 ms run in session 24 searched in none of 200).
 	int searched = 0;
 	auto searchFits = [&]() {
+		const bool first = searched++ == 0;
 		int64_t predicted = costs_.bound(Stage::kViews, config.budgetMargin);
-		if (searched++ > 0 && config.icp)
+		if (!first && config.icp)
 			predicted += config.views.budgetPolishRounds *
 				     costs_.bound(Stage::kIcp, config.budgetMargin, boxWork_);
-		return boxFits(predicted);
+		const bool fits = boxFits(predicted);
+		if (!fits && first)
+			costs_.refused(Stage::kViews);
+		return fits;
 	};
 	// Centres from the box and the depth alone: on the box's ray (the
 	// virtual crop's optical axis) at each dense slab's median depth: the

@@ -78,6 +78,13 @@ int64_t StageCostModel::bound(Stage stage, double margin, double work) const
 	return static_cast<int64_t>(std::ceil((average_[i] + std::max(0.0, margin) * deviation_[i]) * work));
 }
 
+void StageCostModel::refused(Stage stage)
+{
+	const int i = static_cast<int>(stage);
+	average_[i] *= kRefusedEase;
+	deviation_[i] *= kRefusedEase;
+}
+
 int64_t StageCostModel::predict(std::initializer_list<Stage> stages, double margin) const
 {
 	int64_t sum = 0;

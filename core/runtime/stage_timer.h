@@ -136,8 +136,18 @@ public:
 	// budgets that must not overrun. One observation says nothing of the
 	// spread, so it starts at a quarter of the first cost.
 	int64_t bound(Stage stage, double margin, double work = 1.0) const;
+	// The budget refused a run of the stage that was wanted (not merely cut
+	// short): its prediction eases by kRefusedEase. A stage that no longer
+	// runs is never observed again, so one cost measured too high (the
+	// warm-up box's cold first search) would keep it out of every later
+	// frame; eased, it is tried again and measured. A stage that truly does
+	// not fit is then refused again until it has eased as far once more.
+	void refused(Stage stage);
 
 private:
+	// 0.97: a stage predicted 1.3x the room left runs again after 9
+	// refusals; one predicted at twice the room after 23.
+	static constexpr double kRefusedEase = 0.97;
 	// An observation moves the model by at most this many deviations from
 	// the average (the deviation taken as at least kSpreadFloor of it).
 	static constexpr double kClipDeviations = 8.0;

@@ -374,6 +374,47 @@ TEST_F(EstimatorBudget, UnderABudgetTheDepthCentresAreSearchedFirst)
 	e.setObserver(nullptr);
 }
 
+// A search predicted above the room a box leaves is refused; each refusal
+// eases the prediction, so a search that does fit runs again within a few
+// boxes (a cost once measured high must not keep it out for good).
+TEST_F(EstimatorBudget, ARefusedViewSearchIsTriedAgain)
+{
+	ObjectModel &model = *model_->model;
+	const WithViewTemplates views(model);
+	ASSERT_FALSE(model.viewTemplates().empty());
+	EstimatorConfig c = config(0, 0.0f);
+	c.halfTurns.candidates = 0;
+	c.views.inplane = 6;
+	c.views.budgetDepthCentres = 0; // one search: the voted centre's
+	c.budgetMargin = 4.0f; // after one observation: twice its cost
+	test::StepClock clock(kMs);
+	PoseEstimator e({}, &clock);
+	auto calls = [&](Stage stage) { return e.stats().stages[static_cast<int>(stage)].calls; };
+	auto runIn = [&](float budgetMs) {
+		e.beginFrame(1, budgetMs);
+		const PoseEstimate r = run(e, c);
+		e.endFrame();
+		EXPECT_TRUE(r.found) << r.reason;
+	};
+	// Ample time: what the box costs before its search, and the search.
+	runIn(1e6f);
+	ASSERT_EQ(calls(Stage::kViews), 1u);
+	const int64_t view = static_cast<int64_t>(e.stats().stages[static_cast<int>(Stage::kViews)].totalNs);
+	const int64_t before = e.stats().worstFrameNs - view;
+	ASSERT_GE(view, 2 * kMs);
+	// Room for the box as it costs, not for a search of twice the cost.
+	const float budgetMs = static_cast<float>(before + view) / kMs;
+	int boxes = 0;
+	while (calls(Stage::kViews) == 1u && boxes < 100) { // (47 boxes with this clock)
+		runIn(budgetMs);
+		++boxes;
+	}
+	RecordProperty("boxes_until_searched", boxes);
+	EXPECT_EQ(calls(Stage::kViews), 2u) << "never searched again in " << boxes << " boxes";
+	EXPECT_GE(boxes, 2) << "the first box must refuse it";
+	EXPECT_EQ(e.stats().boxOverruns, 0u);
+}
+
 TEST_F(EstimatorBudget, HalfTurnsRunUnderTheBudget)
 {
 	EstimatorConfig c = config(2, 1e6f);

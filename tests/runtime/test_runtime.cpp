@@ -224,6 +224,26 @@ TEST(StageCostModel, AStallDoesNotPriceAStageOutOfLaterFrames)
 	EXPECT_LT(model.average(Stage::kViews), 5600);
 }
 
+// A stage refused by the budget is never observed again: each refusal
+// eases its prediction, so that a cost measured too high once is tried
+// again; the next observation measures it afresh.
+TEST(StageCostModel, ARefusedStageEasesUntilItIsTriedAgain)
+{
+	StageCostModel model(0.3);
+	model.observe(Stage::kViews, 8000); // a cold first run
+	const int64_t room = 6000;           // what later boxes have left
+	int refusals = 0;
+	while (model.bound(Stage::kViews, 1.0) > room && refusals < 100) {
+		model.refused(Stage::kViews);
+		++refusals;
+	}
+	EXPECT_GT(refusals, 0);
+	EXPECT_LE(refusals, 20); // 8000 x 1.25 = 10000 down to 6000: 17 at 0.97
+	model.observe(Stage::kViews, 4000); // what it really costs
+	EXPECT_LT(model.bound(Stage::kViews, 1.0), room);
+	EXPECT_EQ(model.bound(Stage::kIcp, 1.0), 0); // other stages untouched
+}
+
 TEST(StageCostModel, ACostThatGrowsWithTheBoxIsPredictedPerUnitOfWork)
 {
 	StageCostModel model(0.5);
