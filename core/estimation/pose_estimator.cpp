@@ -1007,7 +1007,7 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 	const PixelBox box{x0 - mx, y0 - my, x1 - x0 + 1 + 2 * mx, y1 - y0 + 1 + 2 * my};
 
 	EstimatorConfig c = underBudget(config);
-	const bool tight = config.frameBudgetMs > 0 && config.frameBudgetMs < config.budgetTightMs;
+	const bool tight = config.frameBudgetMs > 0 && tightShare(config, config.frameBudgetMs);
 	if (tight)
 		c = underTightBudget(c);
 	c.frameBudgetMs = 0;
@@ -1080,8 +1080,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	EstimatorConfig budgeted;
 	if (!budget_.unlimited()) {
 		budgeted = underBudget(requested);
-		const double shareMs = static_cast<double>(budget_.boxDeadline() - boxStartNs_) * 1e-6;
-		if (shareMs < static_cast<double>(requested.budgetTightMs)) {
+		if (tightShare(requested, static_cast<double>(budget_.boxDeadline() - boxStartNs_) * 1e-6)) {
 			budgeted = underTightBudget(budgeted);
 			++tightBoxes_;
 		}

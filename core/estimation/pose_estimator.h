@@ -172,6 +172,12 @@ struct EstimatorConfig {
 // one (a share shorter than budgetTightMs), applied to underBudget()'s.
 EstimatorConfig underBudget(EstimatorConfig c);
 EstimatorConfig underTightBudget(EstimatorConfig c);
+// Whether a box with shareMs of its frame left (the frame itself for a
+// frame's only box) runs the tight profile.
+inline bool tightShare(const EstimatorConfig &c, double shareMs)
+{
+	return shareMs < static_cast<double>(c.budgetTightMs);
+}
 
 struct EstimatorLimits {
 	int maxWindowPixels = 200 * 200;

@@ -581,6 +581,8 @@ TEST(ViewSearch, UnderBudgetTakesTheBudgetClimbAndCoarsePass)
 	c.depthCentreWidth = 0.5f;
 	c.budgetDepthCentreWidth = 0.0f;
 	c.lateralStepMm = 3.0f;
+	c.depthFirst = false;
+	c.budgetDepthFirst = true;
 	const ihf::ViewSearchConfig b = ihf::underBudget(c);
 	EXPECT_EQ(b.rotationStepDeg, 2.0f);
 	EXPECT_EQ(b.refineTop, 24);
@@ -588,6 +590,7 @@ TEST(ViewSearch, UnderBudgetTakesTheBudgetClimbAndCoarsePass)
 	EXPECT_EQ(b.coarseKeep, 100);
 	EXPECT_EQ(b.depthCentres, 2);
 	EXPECT_EQ(b.depthCentreWidth, 0.0f);
+	EXPECT_TRUE(b.depthFirst);
 	EXPECT_EQ(b.lateralStepMm, 3.0f);
 	EXPECT_EQ(b.keep, c.keep);
 	EXPECT_EQ(b.inplane, c.inplane);

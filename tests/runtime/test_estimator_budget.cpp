@@ -90,6 +90,16 @@ protected:
 		return {r, e.stats()};
 	}
 
+	// The tight profile's parts (8) apart from the budget's (40), for
+	// shares under tightMs.
+	static EstimatorConfig tightParts(EstimatorConfig c, float tightMs)
+	{
+		c.budgetTargetParts = 40;
+		c.tightTargetParts = 8;
+		c.budgetTightMs = tightMs;
+		return c;
+	}
+
 	// What an unlimited box spends before its polish, and on it.
 	struct PolishCost {
 		int64_t before = 0, icp = 0;
@@ -750,10 +760,7 @@ TEST_F(EstimatorBudget, ARegistrationLongerThanTheFrameIsCountedApart)
 // whose shares are long enough, with the budget's.
 TEST_F(EstimatorBudget, AShortShareRunsTheLeanerRegistration)
 {
-	EstimatorConfig c = config(0, 0.0f);
-	c.budgetTargetParts = 40;
-	c.tightTargetParts = 8;
-	c.budgetTightMs = 300.0f;
+	EstimatorConfig c = tightParts(config(0, 0.0f), 300.0f);
 	test::StepClock clock(kMs);
 	PoseEstimator e({}, &clock);
 	auto runIn = [&](float budgetMs, int boxes) {
@@ -796,10 +803,7 @@ TEST_F(EstimatorBudget, AShortShareRunsTheLeanerRegistration)
 // the warm-up box runs it too, and says so.
 TEST_F(EstimatorBudget, WarmUpRunsTheProfileOfTheFramesBoxes)
 {
-	EstimatorConfig c = config(0, 0.0f);
-	c.budgetTargetParts = 40;
-	c.tightTargetParts = 8;
-	c.budgetTightMs = 24.0f;
+	EstimatorConfig c = tightParts(config(0, 0.0f), 24.0f);
 	auto warmUp = [&](float frameMs) {
 		test::StepClock clock(kMs);
 		PoseEstimator e({}, &clock);
