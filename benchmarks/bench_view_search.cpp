@@ -4,7 +4,8 @@
 // default), and one search at a translation (320 x 24 rotations) on a
 // render of the ape before a wall: with and without the box-centred
 // translation, coarse-to-fine (default) or one pass on all points, and
-// the frame budget's cheaper search (budget:1).
+// the frame budget's cheaper search (budget:1), at the voted centre or
+// (anchored:1) on the box's ray at a depth, as a depth centre is searched.
 //
 // Run: build/bin/bench_view_search [--benchmark_filter=...]
 
@@ -99,21 +100,25 @@ void BM_SearchViews(benchmark::State &state)
 		cfg = underBudget(cfg);
 	const ViewTemplates templates = budget ? budgetTemplates : fullTemplates;
 	ViewProposal top[6];
-	const Eigen::Vector3d centre = truth.t + Eigen::Vector3d(0, 0, 20);
+	const bool anchored = state.range(3) != 0;
+	const Eigen::Vector3d centre = anchored ? Eigen::Vector3d::Zero() : Eigen::Vector3d(truth.t + Eigen::Vector3d(0, 0, 20));
+	const float anchor = anchored ? static_cast<float>(truth.t.z()) : 0.0f;
 	for (auto _ : state) {
 		size_t n = searchViews(templates, cfg, ImageView<const float>(depth.data(), K.width, K.height, K.width),
-				       K, centre, std::span<ViewProposal>(top, 6));
+				       K, centre, std::span<ViewProposal>(top, 6), {}, anchor);
 		benchmark::DoNotOptimize(n);
 	}
 	state.counters["rotations"] = viewSearchSize(templates, cfg);
 }
 BENCHMARK(BM_SearchViews)
-	->ArgNames({"box_centre", "coarse", "budget"})
-	->Args({1, 1, 0})
-	->Args({1, 0, 0})
-	->Args({0, 1, 0})
-	->Args({0, 0, 0})
-	->Args({1, 1, 1})
+	->ArgNames({"box_centre", "coarse", "budget", "anchored"})
+	->Args({1, 1, 0, 0})
+	->Args({1, 0, 0, 0})
+	->Args({0, 1, 0, 0})
+	->Args({0, 0, 0, 0})
+	->Args({1, 1, 1, 0})
+	->Args({1, 1, 0, 1})
+	->Args({1, 1, 1, 1})
 	->Unit(benchmark::kMillisecond);
 
 } // namespace

@@ -357,6 +357,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	views.get("max_shift_mm", e.views.maxShiftMm);
 	views.get("distinct_deg", e.views.distinctDeg);
 	views.get("box_centre", e.views.boxCentre);
+	views.get("coarse_at_centre", e.views.coarseAtCentre);
 	views.get("coarse_points", e.views.coarsePoints);
 	views.get("coarse_keep", e.views.coarseKeep);
 	views.get("viewpoints", s.viewTemplates.viewpoints);
@@ -438,7 +439,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.bank.inplane >= 1, "search.bank_inplane"),
 			  inRange(e.bank.centres >= 1 && e.bank.centres <= 4, "search.bank_centres"),
 			  inRange(e.bank.keep >= 1 && e.bank.keep <= 8, "search.bank_keep"),
-			  inRange(e.views.inplane >= 0 && e.views.inplane <= 360, "view_search.inplane"),
+			  inRange(e.views.inplane >= 0 && e.views.inplane <= kMaxInplane, "view_search.inplane"),
 			  inRange(e.views.centres >= 1 && e.views.centres <= 4, "view_search.centres"),
 			  inRange(e.views.depthCentres >= 0 && e.views.depthCentres <= 4, "view_search.depth_centres"),
 			  inRange(e.views.lateralStepMm >= 0, "view_search.lateral_step_mm"),

@@ -65,19 +65,25 @@ public:
 		std::array<float, kMaxViewPoints> depth;
 		Tally k;
 		k.outside = project(v, t, pixel.data(), depth.data());
+		// Branch-free: whether a point is compared, kept as a residual or
+		// an inlier is random from point to point, and mispredicted
+		// branches cost more than the writes each point makes anyway.
+		std::array<float, kMaxViewPoints> scratch;
+		float *const kept = all ? all : scratch.data();
+		float *const shifted = res ? res : scratch.data();
+		const float *const obs = obs_.data;
+		const float maxShift = res ? cfg_.maxShiftMm : -1.0f;
 		int compared = 0;
 		for (int i = 0; i < v.n; ++i) {
-			if (pixel[i] < 0)
-				continue;
-			const float o = obs_.data[pixel[i]];
-			if (!(o > 0))
-				continue; // no depth: no evidence either way
+			const int p = pixel[i];
+			const float o = obs[p < 0 ? 0 : p];
+			const int valid = (p >= 0) & (o > 0);
 			const float e = o - depth[i];
-			if (all)
-				all[compared++] = e;
-			if (res && std::abs(e) < cfg_.maxShiftMm)
-				res[k.residuals++] = e;
-			classify(k, e);
+			kept[compared] = e;
+			compared += valid;
+			shifted[k.residuals] = e;
+			k.residuals += valid & (std::abs(e) < maxShift);
+			classifyIf(k, e, valid);
 		}
 		return k;
 	}
@@ -120,16 +126,17 @@ public:
 		return outside;
 	}
 
-	// One residual (observed - model depth) into the tally.
-	void classify(Tally &k, float e) const
+	// One residual (observed - model depth) into the tally when `valid`
+	// (1) is set, without a branch.
+	void classifyIf(Tally &k, float e, int valid) const
 	{
-		if (std::abs(e) <= cfg_.inlierMm) {
-			++k.in;
-			k.fit += inlierFit(e, cfg_.inlierMm, cfg_.residualWeight);
-		} else if (e > 0)
-			++k.out;
-		else
-			++k.occ;
+		const int in = valid & (std::abs(e) <= cfg_.inlierMm);
+		const int out = valid & (1 - in) & (e > 0);
+		k.in += in;
+		k.out += out;
+		k.occ += valid & (1 - in) & (1 - out);
+		// Adding 0 leaves the sum as it is: the same sum as a branch.
+		k.fit += in ? inlierFit(e, cfg_.inlierMm, cfg_.residualWeight) : 0.0f;
 	}
 
 	// Translation at t's depth that puts the centre of the points' projected
@@ -205,7 +212,7 @@ public:
 		Tally moved;
 		moved.outside = k.outside;
 		for (int i = 0; i < compared; ++i)
-			classify(moved, all[i] - shift);
+			classifyIf(moved, all[i] - shift, 1);
 		return moved;
 	}
 
@@ -290,7 +297,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		   float anchorDepth, WorkerPool *pool, ViewSearchWorkspace workspace)
 {
 	const int total = viewSearchSize(templates, config);
-	if (total == 0 || out.empty() || !(anchorDepth > 0 || centre.z() > 1.0))
+	if (total == 0 || config.inplane > kMaxInplane || out.empty() || !(anchorDepth > 0 || centre.z() > 1.0))
 		return 0;
 	const int n = std::min(templates.pointsPerView, kMaxViewPoints);
 	const SparseScorer scorer(config, observed, K, box);
@@ -299,11 +306,18 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	const bool centring = config.boxCentre && (box.x || box.y || box.open.left != box.open.right ||
 						   box.open.top != box.open.bottom);
 	const int inplane = config.inplane;
+	const bool centredOnly = !config.coarseAtCentre && centring && anchorDepth > 0 && box.x && box.y;
 
-	// The view's points (already rotated by the view) turned in-plane.
-	auto turnedView = [&](const ViewPoints *pts, int m, int turn) {
+	// The view's points (already rotated by the view) turned in-plane; the
+	// turns' cosines and sines once per search, not once per rotation.
+	std::array<std::array<float, 2>, kMaxInplane> turns;
+	for (int turn = 0; turn < std::min(inplane, kMaxInplane); ++turn) {
 		const double angle = 2.0 * M_PI * turn / inplane;
-		return TurnedView{pts, m, static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle))};
+		turns[static_cast<size_t>(turn)] = {static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle))};
+	}
+	auto turnedView = [&](const ViewPoints *pts, int m, int turn) {
+		const auto &cs = turns[static_cast<size_t>(turn)];
+		return TurnedView{pts, m, cs[0], cs[1]};
 	};
 	// Score of one rotation of view r, at its translation and the
 	// box-centred one; t gets the better one's.
@@ -314,6 +328,10 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 				      : scorer.aligned(tv, at, s.res.data());
 		};
 		t = r.t0;
+		if (coarse && centredOnly) {
+			t = scorer.centred(tv, r.t0);
+			return scorer.score(align(t), r.m);
+		}
 		float best = scorer.score(align(t), r.m);
 		if (centring) {
 			Eigen::Vector3f tb = scorer.centred(tv, r.t0);

@@ -30,6 +30,7 @@ namespace ihf {
 inline constexpr int kMaxViewPoints = 256;
 inline constexpr int kMaxCoarseKeep = 2048;
 inline constexpr int kMaxRefineTop = 64;
+inline constexpr int kMaxInplane = 360; // in-plane turns per viewpoint
 
 struct ViewSearchConfig {
 	int inplane = 24;      // in-plane turns per viewpoint (15 deg); 0: search off
@@ -46,6 +47,13 @@ struct ViewSearchConfig {
 	// box's centre in the virtual crop (the box taken as amodal, like the
 	// score's box factor); the better of the two is kept.
 	bool boxCentre = true;
+	// On a depth centre in a box trusted on both axes the coarse pass
+	// scores each rotation at its box-centred translation only; the centre
+	// itself (the box's ray: the model's origin on it) joins in the fine
+	// pass. The two differ by the offset of the origin from the middle of
+	// what the view shows, and the coarse pass only ranks: half its cost
+	// (BENCHMARKS.md, session 25). true: both in the coarse pass too.
+	bool coarseAtCentre = false;
 	// Coarse-to-fine: every rotation is first scored on an even subset of
 	// coarsePoints of its view's points; only the coarseKeep best are
 	// scored on all of them. 0: one pass on all points.

@@ -171,6 +171,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.views.inlierMm, b.views.inlierMm);
 	EXPECT_EQ(a.views.keep, b.views.keep);
 	EXPECT_EQ(a.views.boxCentre, b.views.boxCentre);
+	EXPECT_EQ(a.views.coarseAtCentre, b.views.coarseAtCentre);
 	EXPECT_EQ(a.views.coarsePoints, b.views.coarsePoints);
 	EXPECT_EQ(a.views.coarseKeep, b.views.coarseKeep);
 	EXPECT_EQ(a.halfTurns.candidates, b.halfTurns.candidates);

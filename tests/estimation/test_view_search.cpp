@@ -414,6 +414,61 @@ TEST_F(ViewSearchTest, DepthAnchorFindsTheRotationWithoutAVotedCentre)
 		  0u);
 }
 
+// On a depth centre in a box trusted on both axes the coarse pass scores
+// each rotation box-centred only (coarseAtCentre false, the default), which
+// only changes what reaches the fine pass: keeping every rotation, the
+// proposals are exactly those of the coarse pass on both translations.
+// Where it does not apply (a voted centre; a box the frame clipped) the two
+// settings give the same search whatever is kept.
+TEST_F(ViewSearchTest, TheCoarsePassScoresADepthCentreBoxCentredOnly)
+{
+	std::mt19937_64 rng(31);
+	std::vector<float> depth;
+	const Pose truth = centredPose(rng, depth);
+	ImageView<const float> view(depth.data(), K_.width, K_.height, K_.width);
+	const float anchor = static_cast<float>(truth.t.z() - 10);
+	auto same = [](const ViewProposal *a, size_t na, const ViewProposal *b, size_t nb) {
+		if (na != nb)
+			return false;
+		for (size_t i = 0; i < na; ++i)
+			if (a[i].view != b[i].view || a[i].turn != b[i].turn || a[i].score != b[i].score ||
+			    !(a[i].pose.t == b[i].pose.t))
+				return false;
+		return true;
+	};
+	ViewSearchConfig both;
+	both.coarseAtCentre = true;
+	ViewSearchConfig centred = both;
+	centred.coarseAtCentre = false;
+	ViewProposal a[6], b[6];
+	// Every rotation kept (6 turns: 1920 rotations).
+	both.inplane = centred.inplane = 6;
+	both.coarseKeep = centred.coarseKeep = kMaxCoarseKeep;
+	size_t na = searchViews(templates(), both, view, K_, Eigen::Vector3d::Zero(), a, {}, anchor);
+	size_t nb = searchViews(templates(), centred, view, K_, Eigen::Vector3d::Zero(), b, {}, anchor);
+	ASSERT_GT(na, 0u);
+	EXPECT_TRUE(same(a, na, b, nb));
+	EXPECT_TRUE(near(b, nb, truth, 15));
+	// The default keep (1024 of 7680): the rotation is still found.
+	both = centred = ViewSearchConfig{};
+	both.coarseAtCentre = true;
+	nb = searchViews(templates(), centred, view, K_, Eigen::Vector3d::Zero(), b, {}, anchor);
+	EXPECT_TRUE(near(b, nb, truth, 15));
+	// A voted centre, and a depth centre in a box clipped on the left: the
+	// same search.
+	const Eigen::Vector3d voted = truth.t + Eigen::Vector3d(5, 5, 20);
+	na = searchViews(templates(), both, view, K_, voted, a);
+	nb = searchViews(templates(), centred, view, K_, voted, b);
+	ASSERT_GT(na, 0u);
+	EXPECT_TRUE(same(a, na, b, nb));
+	BoxAxes clipped{false, true, {}};
+	clipped.open.left = true;
+	na = searchViews(templates(), both, view, K_, Eigen::Vector3d::Zero(), a, clipped, anchor);
+	nb = searchViews(templates(), centred, view, K_, Eigen::Vector3d::Zero(), b, clipped, anchor);
+	ASSERT_GT(na, 0u);
+	EXPECT_TRUE(same(a, na, b, nb));
+}
+
 // A detector's box is off by some percent: its centre, taken for the
 // object's, puts the translation millimetres off sideways. The sideways
 // climb of the best proposals brings the true rotation back.
