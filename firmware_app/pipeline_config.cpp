@@ -397,6 +397,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	budget.get("tight_ibs_cg_iterations", e.tightIbsCgIterations);
 	budget.get("tight_max_hypotheses", e.tightMaxHypotheses);
 	budget.get("tight_rotation_modes", e.tightRotationModes);
+	budget.get("short_below_ms", e.budgetShortMs);
+	budget.get("short_icp_iterations", e.shortIcpIterations);
 	budget.get("scale_by_box", e.budgetScaleByBox);
 	budget.get("max_window_pixels", e.budgetWindowPixels);
 	budget.get("margin", e.budgetMargin);
@@ -494,6 +496,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.tightIbsCgIterations >= 0, "budget.tight_ibs_cg_iterations"),
 			  inRange(e.tightMaxHypotheses >= 0, "budget.tight_max_hypotheses"),
 			  inRange(e.tightRotationModes >= 0, "budget.tight_rotation_modes"),
+			  inRange(e.budgetShortMs >= 0, "budget.short_below_ms"),
+			  inRange(e.shortIcpIterations >= 0, "budget.short_icp_iterations"),
 			  inRange(e.budgetWindowPixels >= 0, "budget.max_window_pixels"),
 			  inRange(e.budgetMargin >= 0 && e.budgetMargin <= 10, "budget.margin"),
 			  inRange(s.limits.threads >= 0 && s.limits.threads <= WorkerPool::kMaxThreads, "limits.threads")})

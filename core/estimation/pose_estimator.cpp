@@ -1010,6 +1010,8 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 	const bool tight = config.frameBudgetMs > 0 && tightShare(config, config.frameBudgetMs);
 	if (tight)
 		c = underTightBudget(c);
+	if (config.frameBudgetMs > 0 && shortShare(config, config.frameBudgetMs))
+		c = underShortBudget(c);
 	c.frameBudgetMs = 0;
 	EstimateObserver *observer = observer_;
 	observer_ = nullptr;
@@ -1071,6 +1073,12 @@ EstimatorConfig underTightBudget(EstimatorConfig c)
 	return c;
 }
 
+EstimatorConfig underShortBudget(EstimatorConfig c)
+{
+	c.icpConfig.iterations = underBound(c.icpConfig.iterations, c.shortIcpIterations);
+	return c;
+}
+
 PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraIntrinsics &K,
 				     const PixelBox &box, const ObjectModel &model,
 				     const EstimatorConfig &requested)
@@ -1080,10 +1088,13 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	EstimatorConfig budgeted;
 	if (!budget_.unlimited()) {
 		budgeted = underBudget(requested);
-		if (tightShare(requested, static_cast<double>(budget_.boxDeadline() - boxStartNs_) * 1e-6)) {
+		const double shareMs = static_cast<double>(budget_.boxDeadline() - boxStartNs_) * 1e-6;
+		if (tightShare(requested, shareMs)) {
 			budgeted = underTightBudget(budgeted);
 			++tightBoxes_;
 		}
+		if (shortShare(requested, shareMs))
+			budgeted = underShortBudget(budgeted);
 	}
 	const EstimatorConfig &config = budget_.unlimited() ? requested : budgeted;
 	if (!valid_) {

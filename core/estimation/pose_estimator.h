@@ -149,6 +149,13 @@ struct EstimatorConfig {
 	int tightIbsCgIterations = 6;
 	int tightMaxHypotheses = 2;
 	int tightRotationModes = 2;
+	// And a box whose share is shorter than budgetShortMs polishes with at
+	// most shortIcpIterations ICP iterations a round (0: as configured):
+	// at 10 ms a round of 10 took ~1 ms, and half of them buy more rounds
+	// and searches; at 20 ms the full rounds are worth their time
+	// (BENCHMARKS.md, session 25).
+	float budgetShortMs = 15.0f;
+	int shortIcpIterations = 5;
 	// A box's window at most this many pixels (0: EstimatorLimits::
 	// maxWindowPixels); a larger box is processed downsampled, as at the
 	// limit. Inside a budget the budget one: the render, score and polish
@@ -172,11 +179,17 @@ struct EstimatorConfig {
 // one (a share shorter than budgetTightMs), applied to underBudget()'s.
 EstimatorConfig underBudget(EstimatorConfig c);
 EstimatorConfig underTightBudget(EstimatorConfig c);
+// and inside a short one (shorter than budgetShortMs), applied to those.
+EstimatorConfig underShortBudget(EstimatorConfig c);
 // Whether a box with shareMs of its frame left (the frame itself for a
 // frame's only box) runs the tight profile.
 inline bool tightShare(const EstimatorConfig &c, double shareMs)
 {
 	return shareMs < static_cast<double>(c.budgetTightMs);
+}
+inline bool shortShare(const EstimatorConfig &c, double shareMs)
+{
+	return shareMs < static_cast<double>(c.budgetShortMs);
 }
 
 struct EstimatorLimits {

@@ -146,6 +146,15 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.budgetIbsCgIterations, b.budgetIbsCgIterations);
 	EXPECT_EQ(a.budgetWindowPixels, b.budgetWindowPixels);
 	EXPECT_EQ(a.budgetScaleByBox, b.budgetScaleByBox);
+	EXPECT_EQ(a.budgetTightMs, b.budgetTightMs);
+	EXPECT_EQ(a.tightTargetParts, b.tightTargetParts);
+	EXPECT_EQ(a.tightMaxShiftVotes, b.tightMaxShiftVotes);
+	EXPECT_EQ(a.tightIbsMaxPoints, b.tightIbsMaxPoints);
+	EXPECT_EQ(a.tightIbsCgIterations, b.tightIbsCgIterations);
+	EXPECT_EQ(a.tightMaxHypotheses, b.tightMaxHypotheses);
+	EXPECT_EQ(a.tightRotationModes, b.tightRotationModes);
+	EXPECT_EQ(a.budgetShortMs, b.budgetShortMs);
+	EXPECT_EQ(a.shortIcpIterations, b.shortIcpIterations);
 	EXPECT_EQ(none->limits.threads, bundled->limits.threads);
 	EXPECT_EQ(a.search.levels, b.search.levels);
 	EXPECT_EQ(a.bank.viewpoints, b.bank.viewpoints);
@@ -213,6 +222,8 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[budget]\nmax_iterations = -2\n", "budget.max_iterations"},
 		     {"[budget]\nmax_depth_windows = -2\n", "budget.max_depth_windows"},
 		     {"[budget]\ntarget_parts = -1\n", "budget.target_parts"},
+		     {"[budget]\nshort_icp_iterations = -1\n", "budget.short_icp_iterations"},
+		     {"[budget]\nshort_below_ms = -1\n", "budget.short_below_ms"},
 		     {"[search]\nlevels = -1\n", "search.levels"},
 		     {"[half_turns]\ncandidates = 5\n", "half_turns.candidates"},
 		     {"[half_turns]\nkeep = 0\n", "half_turns.keep"},

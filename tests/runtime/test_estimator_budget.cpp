@@ -799,6 +799,28 @@ TEST_F(EstimatorBudget, AShortShareRunsTheLeanerRegistration)
 	EXPECT_EQ(e.stats().tightBoxes, tightBoxes);
 }
 
+// A share shorter than budgetShortMs (10 ms frames) polishes with shorter
+// ICP rounds; 20 ms and offline keep the configured ones.
+TEST(EstimatorUnderBudget, AShortShareBoundsTheIcpIterations)
+{
+	ihf::EstimatorConfig c;
+	c.icpConfig.iterations = 10;
+	c.budgetShortMs = 15.0f;
+	c.shortIcpIterations = 5;
+	EXPECT_TRUE(ihf::shortShare(c, 10.0));
+	EXPECT_FALSE(ihf::shortShare(c, 20.0));
+	EXPECT_TRUE(ihf::tightShare(c, 20.0)); // 20 ms: tight, not short
+	EXPECT_EQ(ihf::underShortBudget(c).icpConfig.iterations, 5);
+	EXPECT_EQ(ihf::underTightBudget(ihf::underBudget(c)).icpConfig.iterations, 10);
+	c.icpConfig.iterations = 3; // already below
+	EXPECT_EQ(ihf::underShortBudget(c).icpConfig.iterations, 3);
+	c.icpConfig.iterations = 10;
+	c.shortIcpIterations = 0; // off
+	EXPECT_EQ(ihf::underShortBudget(c).icpConfig.iterations, 10);
+	c.budgetShortMs = 0; // never
+	EXPECT_FALSE(ihf::shortShare(c, 1.0));
+}
+
 // A frame shorter than the tight share gives every box the tight profile:
 // the warm-up box runs it too, and says so.
 TEST_F(EstimatorBudget, WarmUpRunsTheProfileOfTheFramesBoxes)
