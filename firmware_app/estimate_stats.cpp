@@ -47,9 +47,10 @@ void printEstimateStats(std::FILE *out, const EstimateRunSummary &sum)
 			     c.calls ? ms(c.totalNs) / static_cast<double>(c.calls) : 0.0, ms(c.maxNs),
 			     total > 0 ? 100.0 * static_cast<double>(c.totalNs) / static_cast<double>(total) : 0.0);
 	}
-	char tight[40] = "";
+	char tight[64] = "";
 	if (sum.frameBudgetMs > 0) {
-		std::snprintf(tight, sizeof(tight), " (%llu tight)", static_cast<unsigned long long>(s.tightBoxes));
+		std::snprintf(tight, sizeof(tight), " (%llu tight, %llu short)", static_cast<unsigned long long>(s.tightBoxes),
+			      static_cast<unsigned long long>(s.shortBoxes));
 		std::fprintf(out, "ihf estimate: budget %g ms per frame: ", sum.frameBudgetMs);
 	} else {
 		std::fprintf(out, "ihf estimate: no frame budget: ");
@@ -97,6 +98,7 @@ std::string estimateStatsJson(const EstimateRunSummary &sum)
 		       {"frames", s.frames},
 		       {"boxes", s.boxes},
 		       {"tight_boxes", s.tightBoxes},
+		       {"short_boxes", s.shortBoxes},
 		       {"refinement_iterations", s.iterations},
 		       {"budget_stops", s.budgetStops},
 		       {"icp_skipped", s.icpSkipped},

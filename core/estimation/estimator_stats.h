@@ -38,6 +38,8 @@ struct EstimatorStats {
 	                                   // frame is shorter than it)
 	uint64_t tightBoxes = 0;          // boxes run with the tight budget's leaner
 	                                  // registration (EstimatorConfig::budgetTightMs)
+	uint64_t shortBoxes = 0;          // boxes polished with the short share's ICP
+	                                  // rounds (EstimatorConfig::budgetShortMs)
 	int64_t worstFrameNs = 0;
 
 	size_t arenaCapacity = 0;

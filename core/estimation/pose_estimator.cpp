@@ -236,6 +236,7 @@ EstimatorStats PoseEstimator::stats() const
 	s.icpSkipped = icpSkipped_;
 	s.registrationOverruns = registrationOverruns_;
 	s.tightBoxes = tightBoxes_;
+	s.shortBoxes = shortBoxes_;
 	s.frameOverruns = budget_.frameOverruns();
 	s.boxOverruns = budget_.boxOverruns();
 	s.worstFrameNs = budget_.worstFrameNs();
@@ -1028,7 +1029,7 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 
 	timer_.reset();
 	budget_ = FrameBudget{};
-	iterationsRun_ = budgetStops_ = icpSkipped_ = registrationOverruns_ = tightBoxes_ = 0;
+	iterationsRun_ = budgetStops_ = icpSkipped_ = registrationOverruns_ = tightBoxes_ = shortBoxes_ = 0;
 	peaks_ = {};
 	if (!e.found)
 		return makeError(Errc::kNoPose, std::string("warm-up box gave no pose: ") + e.reason);
@@ -1093,8 +1094,10 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 			budgeted = underTightBudget(budgeted);
 			++tightBoxes_;
 		}
-		if (shortShare(requested, shareMs))
+		if (shortShare(requested, shareMs)) {
 			budgeted = underShortBudget(budgeted);
+			++shortBoxes_;
+		}
 	}
 	const EstimatorConfig &config = budget_.unlimited() ? requested : budgeted;
 	if (!valid_) {

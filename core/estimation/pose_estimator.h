@@ -449,7 +449,8 @@ private:
 	// it; the warm-up's box is the largest one.
 	double boxWork_ = 1.0;
 	FrameBudget budget_;
-	uint64_t iterationsRun_ = 0, budgetStops_ = 0, icpSkipped_ = 0, registrationOverruns_ = 0, tightBoxes_ = 0;
+	uint64_t iterationsRun_ = 0, budgetStops_ = 0, icpSkipped_ = 0, registrationOverruns_ = 0, tightBoxes_ = 0,
+		 shortBoxes_ = 0;
 	// The current box's start and its initial registration's length (box
 	// start to the end of the k = 0 pass), as the budget sees them.
 	int64_t boxStartNs_ = 0, registrationNs_ = 0;

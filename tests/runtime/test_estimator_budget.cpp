@@ -797,6 +797,14 @@ TEST_F(EstimatorBudget, AShortShareRunsTheLeanerRegistration)
 	c.budgetTightMs = 0; // off
 	EXPECT_GT(runIn(200.0f, 1)[0].parts, 2 * 8);
 	EXPECT_EQ(e.stats().tightBoxes, tightBoxes);
+	// The short share's ICP rounds are counted apart, by their own threshold.
+	EXPECT_EQ(e.stats().shortBoxes, 0u); // 15 ms: none of the shares above
+	c.budgetShortMs = 300.0f;
+	runIn(1000.0f, 1);
+	EXPECT_EQ(e.stats().shortBoxes, 0u);
+	runIn(200.0f, 1);
+	EXPECT_EQ(e.stats().shortBoxes, 1u);
+	EXPECT_EQ(e.stats().tightBoxes, tightBoxes); // tight stays off
 }
 
 // A share shorter than budgetShortMs (10 ms frames) polishes with shorter
