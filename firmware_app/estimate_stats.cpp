@@ -47,9 +47,9 @@ void printEstimateStats(std::FILE *out, const EstimateRunSummary &sum)
 			     c.calls ? ms(c.totalNs) / static_cast<double>(c.calls) : 0.0, ms(c.maxNs),
 			     total > 0 ? 100.0 * static_cast<double>(c.totalNs) / static_cast<double>(total) : 0.0);
 	}
-	char tight[64] = "";
+	char profiles[64] = "";
 	if (sum.frameBudgetMs > 0) {
-		std::snprintf(tight, sizeof(tight), " (%llu tight, %llu short)", static_cast<unsigned long long>(s.tightBoxes),
+		std::snprintf(profiles, sizeof(profiles), " (%llu tight, %llu short)", static_cast<unsigned long long>(s.tightBoxes),
 			      static_cast<unsigned long long>(s.shortBoxes));
 		std::fprintf(out, "ihf estimate: budget %g ms per frame: ", sum.frameBudgetMs);
 	} else {
@@ -60,7 +60,7 @@ void printEstimateStats(std::FILE *out, const EstimateRunSummary &sum)
 		     "%llu ICP skipped, %llu frame overruns, %llu box overruns (%llu already in the initial "
 		     "registration), worst frame %.1f ms\n",
 		     static_cast<unsigned long long>(s.frames), static_cast<unsigned long long>(s.boxes),
-		     tight, static_cast<unsigned long long>(s.iterations), static_cast<unsigned long long>(s.budgetStops),
+		     profiles, static_cast<unsigned long long>(s.iterations), static_cast<unsigned long long>(s.budgetStops),
 		     static_cast<unsigned long long>(s.icpSkipped), static_cast<unsigned long long>(s.frameOverruns),
 		     static_cast<unsigned long long>(s.boxOverruns),
 		     static_cast<unsigned long long>(s.registrationOverruns), ms(s.worstFrameNs));

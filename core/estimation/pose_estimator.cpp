@@ -1007,12 +1007,12 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 	const int mx = (x1 - x0) / 20 + 1, my = (y1 - y0) / 20 + 1;
 	const PixelBox box{x0 - mx, y0 - my, x1 - x0 + 1 + 2 * mx, y1 - y0 + 1 + 2 * my};
 
-	EstimatorConfig c = underBudget(config);
-	const bool tight = config.frameBudgetMs > 0 && tightShare(config, config.frameBudgetMs);
-	if (tight)
-		c = underTightBudget(c);
-	if (config.frameBudgetMs > 0 && shortShare(config, config.frameBudgetMs))
-		c = underShortBudget(c);
+	// The box runs as a frame's only box would: its share is the frame
+	// (an unlimited frame: no share profile).
+	const ShareSettings share =
+		underShare(config, config.frameBudgetMs > 0 ? static_cast<double>(config.frameBudgetMs)
+							    : std::numeric_limits<double>::infinity());
+	EstimatorConfig c = share.config;
 	c.frameBudgetMs = 0;
 	EstimateObserver *observer = observer_;
 	observer_ = nullptr;
@@ -1024,7 +1024,7 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 	WarmUpCost cost;
 	cost.registrationMs = static_cast<double>(registrationNs_) * 1e-6;
 	cost.boxMs = static_cast<double>(budget_.worstFrameNs()) * 1e-6;
-	cost.tight = tight;
+	cost.tight = share.tight;
 	cost.parts = e.parts;
 
 	timer_.reset();
@@ -1080,6 +1080,18 @@ EstimatorConfig underShortBudget(EstimatorConfig c)
 	return c;
 }
 
+ShareSettings underShare(const EstimatorConfig &c, double shareMs)
+{
+	ShareSettings s{underBudget(c)};
+	s.tight = tightShare(c, shareMs);
+	if (s.tight)
+		s.config = underTightBudget(s.config);
+	s.shortRounds = shortShare(c, shareMs);
+	if (s.shortRounds)
+		s.config = underShortBudget(s.config);
+	return s;
+}
+
 PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraIntrinsics &K,
 				     const PixelBox &box, const ObjectModel &model,
 				     const EstimatorConfig &requested)
@@ -1088,16 +1100,11 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	BoxScope scope(*this, requested);
 	EstimatorConfig budgeted;
 	if (!budget_.unlimited()) {
-		budgeted = underBudget(requested);
-		const double shareMs = static_cast<double>(budget_.boxDeadline() - boxStartNs_) * 1e-6;
-		if (tightShare(requested, shareMs)) {
-			budgeted = underTightBudget(budgeted);
-			++tightBoxes_;
-		}
-		if (shortShare(requested, shareMs)) {
-			budgeted = underShortBudget(budgeted);
-			++shortBoxes_;
-		}
+		const ShareSettings share =
+			underShare(requested, static_cast<double>(budget_.boxDeadline() - boxStartNs_) * 1e-6);
+		budgeted = share.config;
+		tightBoxes_ += share.tight;
+		shortBoxes_ += share.shortRounds;
 	}
 	const EstimatorConfig &config = budget_.unlimited() ? requested : budgeted;
 	if (!valid_) {

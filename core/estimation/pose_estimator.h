@@ -192,6 +192,16 @@ inline bool shortShare(const EstimatorConfig &c, double shareMs)
 	return shareMs < static_cast<double>(c.budgetShortMs);
 }
 
+// The settings of a box with shareMs of its frame left: underBudget()'s,
+// then the tight and the short profile's where the share is under their
+// thresholds (which of them applied, for the stats).
+struct ShareSettings {
+	EstimatorConfig config;
+	bool tight = false;
+	bool shortRounds = false;
+};
+ShareSettings underShare(const EstimatorConfig &c, double shareMs);
+
 struct EstimatorLimits {
 	int maxWindowPixels = 200 * 200;
 	int maxParts = 3000;

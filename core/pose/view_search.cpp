@@ -311,7 +311,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	// The view's points (already rotated by the view) turned in-plane; the
 	// turns' cosines and sines once per search, not once per rotation.
 	std::array<std::array<float, 2>, kMaxInplane> turns;
-	for (int turn = 0; turn < std::min(inplane, kMaxInplane); ++turn) {
+	for (int turn = 0; turn < inplane; ++turn) {
 		const double angle = 2.0 * M_PI * turn / inplane;
 		turns[static_cast<size_t>(turn)] = {static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle))};
 	}
@@ -327,11 +327,11 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 			return coarse ? scorer.alignedOnce(tv, at, s.res.data(), s.all.data())
 				      : scorer.aligned(tv, at, s.res.data());
 		};
-		t = r.t0;
 		if (coarse && centredOnly) {
 			t = scorer.centred(tv, r.t0);
 			return scorer.score(align(t), r.m);
 		}
+		t = r.t0;
 		float best = scorer.score(align(t), r.m);
 		if (centring) {
 			Eigen::Vector3f tb = scorer.centred(tv, r.t0);
