@@ -16,9 +16,17 @@ IcpResult refineIcp(std::span<const CloudPoint> cloud, const Mesh &mesh, const P
 	for (int it = 0; it < config.iterations; ++it) {
 		const float t = config.iterations > 1 ? static_cast<float>(it) / (config.iterations - 1) : 1.0f;
 		const float gate = config.maxDistanceMm + t * (config.minDistanceMm - config.maxDistanceMm);
-		render.fill(0.0f);
-		if (!renderer.render(mesh, result.pose, K, render))
-			break;
+		if (it == 0 || !config.renderOnce) {
+			render.fill(0.0f);
+			if (!renderer.render(mesh, result.pose, K, render))
+				break;
+		}
+		// The pose change since the render (identity when rendered now):
+		// an observed point is looked up where it sat in the render's
+		// frame, and the surface point found there moved back.
+		const Eigen::Matrix3d moveR = result.pose.R * start.R.transpose();
+		const Eigen::Vector3d moveT = result.pose.t - moveR * start.t;
+		const bool moved = config.renderOnce && it > 0;
 
 		const Eigen::Vector3d c = result.pose.t;
 		Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
@@ -26,13 +34,30 @@ IcpResult refineIcp(std::span<const CloudPoint> cloud, const Mesh &mesh, const P
 		int n = 0;
 		double sse = 0;
 		for (const auto &pt : cloud) {
-			if (!pt.hasNormal() || !render.contains(pt.u, pt.v))
+			if (!pt.hasNormal())
 				continue;
-			float rz = render.at(pt.u, pt.v);
-			if (!(rz > 0))
-				continue;
-			Eigen::Vector3d q = K.backProject(pt.u, pt.v, rz);
 			Eigen::Vector3d p = pt.p.cast<double>();
+			Eigen::Vector3d q;
+			if (moved) {
+				const Eigen::Vector3d p0 = moveR.transpose() * (p - moveT);
+				if (!(p0.z() > 0))
+					continue;
+				const Eigen::Vector2d uv = K.project(p0);
+				const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+				if (!render.contains(u, v))
+					continue;
+				const float rz = render.at(u, v);
+				if (!(rz > 0))
+					continue;
+				q = moveR * K.backProject(u, v, rz) + moveT;
+			} else {
+				if (!render.contains(pt.u, pt.v))
+					continue;
+				const float rz = render.at(pt.u, pt.v);
+				if (!(rz > 0))
+					continue;
+				q = K.backProject(pt.u, pt.v, rz);
+			}
 			if ((q - p).norm() > gate)
 				continue;
 			Eigen::Vector3d nn = pt.n.cast<double>();

@@ -23,6 +23,11 @@ struct IcpConfig {
 	float maxDistanceMm = 25.0f; // first iteration's gate
 	float minDistanceMm = 8.0f;  // last iteration's gate
 	int minCorrespondences = 30;
+	// Render the model once, at the start pose, and associate later
+	// iterations through the pose change since (the model's surface as
+	// first seen, moved rigidly: a small update hardly changes what is
+	// visible). false: a render every iteration.
+	bool renderOnce = false;
 };
 
 struct IcpResult {
