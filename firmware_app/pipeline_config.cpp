@@ -317,10 +317,12 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	icp.get("enabled", e.icp);
 	icp.get("candidates", e.icpCandidates);
 	icp.get("forest_bests", e.polishForestBests);
+	icp.get("registration_candidates", e.polishRegistration);
 	icp.get("final_iterations", e.finalIcpIterations);
 	icp.get("iterations", e.icpConfig.iterations);
 	icp.get("max_distance_mm", e.icpConfig.maxDistanceMm);
 	icp.get("min_distance_mm", e.icpConfig.minDistanceMm);
+	icp.get("render_once", e.icpConfig.renderOnce);
 	IHF_SECTION(icp);
 
 	TableReader search(root["search"].as_table(), file, "search");
@@ -399,6 +401,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	budget.get("tight_rotation_modes", e.tightRotationModes);
 	budget.get("short_below_ms", e.budgetShortMs);
 	budget.get("short_icp_iterations", e.shortIcpIterations);
+	budget.get("short_icp_render_once", e.shortIcpRenderOnce);
 	budget.get("scale_by_box", e.budgetScaleByBox);
 	budget.get("max_window_pixels", e.budgetWindowPixels);
 	budget.get("margin", e.budgetMargin);

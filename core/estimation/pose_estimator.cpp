@@ -90,6 +90,7 @@ bool PoseEstimator::carvePersistent(A &arena)
 	       arenaTake(arena, viewHeaps_, viewSearchHeapSize(WorkerPool::resolve(l.threads))) &&
 	       arenaTake(arena, viewFine_, size_t{kMaxCoarseKeep}) &&
 	       arenaTake(arena, kept_, count(std::max(1, l.maxCandidates))) &&
+	       arenaTake(arena, registrationKept_, count(std::max(1, l.maxCandidates))) &&
 	       arenaTake(arena, rivalStore_, count(l.maxRivals));
 }
 
@@ -266,28 +267,36 @@ void PoseEstimator::report(int iteration, const char *stage, int rank, const Pos
 
 // Keeps the best distinct hypotheses sorted by score; a near duplicate of a
 // kept one replaces it only if it scores higher.
-void PoseEstimator::keep(const Hypothesis &h, float sameTranslationMm)
+void PoseEstimator::keep(const Hypothesis &h, float sameTranslationMm, bool fromRefinement)
 {
-	for (size_t i = 0; i < keptCount_; ++i) {
-		Hypothesis &k = kept_[i];
+	keepIn(kept_, keptCount_, h, sameTranslationMm);
+	if (!fromRefinement)
+		keepIn(registrationKept_, registrationKeptCount_, h, sameTranslationMm);
+}
+
+void PoseEstimator::keepIn(std::span<Hypothesis> kept, size_t &count, const Hypothesis &h,
+			   float sameTranslationMm)
+{
+	for (size_t i = 0; i < count; ++i) {
+		Hypothesis &k = kept[i];
 		if (samePose(k.pose, h.pose, sameTranslationMm)) {
 			if (h.score.score <= k.score.score)
 				return;
 			// Remove it; the new one is inserted below.
-			std::move(kept_.begin() + i + 1, kept_.begin() + keptCount_, kept_.begin() + i);
-			--keptCount_;
+			std::move(kept.begin() + i + 1, kept.begin() + count, kept.begin() + i);
+			--count;
 			break;
 		}
 	}
 	size_t pos = 0;
-	while (pos < keptCount_ && kept_[pos].score.score >= h.score.score)
+	while (pos < count && kept[pos].score.score >= h.score.score)
 		++pos;
-	if (pos >= kept_.size())
+	if (pos >= kept.size())
 		return;
-	if (keptCount_ < kept_.size())
-		++keptCount_;
-	std::move_backward(kept_.begin() + pos, kept_.begin() + keptCount_ - 1, kept_.begin() + keptCount_);
-	kept_[pos] = h;
+	if (count < kept.size())
+		++count;
+	std::move_backward(kept.begin() + pos, kept.begin() + count - 1, kept.begin() + count);
+	kept[pos] = h;
 }
 
 // Scores every bank rotation at each of the best distinct translations
@@ -336,17 +345,24 @@ void PoseEstimator::searchRotationBank(const CameraIntrinsics &K, const ObjectMo
 size_t PoseEstimator::polishCandidates(const EstimatorConfig &config, double diameter,
 				       const Hypothesis (&forestBest)[2], std::span<Hypothesis> out) const
 {
-	size_t n = std::min({keptCount_, static_cast<size_t>(std::max(0, config.icpCandidates)), out.size()});
+	const size_t wanted = static_cast<size_t>(std::max(0, config.icpCandidates));
+	size_t n = std::min({keptCount_, wanted, out.size()});
 	std::copy_n(kept_.begin(), n, out.begin());
-	if (n == 0 || !config.polishForestBests || !forestBest[1].valid) // or no refinement ran
+	if (n == 0 || !forestBest[1].valid) // or no refinement ran
 		return n;
-	for (const Hypothesis &f : forestBest) {
-		bool seen = !f.valid;
+	auto add = [&](const Hypothesis &h) {
+		bool seen = !h.valid;
 		for (size_t i = 0; i < n && !seen; ++i)
-			seen = samePose(out[i].pose, f.pose, 0.05 * diameter);
+			seen = samePose(out[i].pose, h.pose, 0.05 * diameter);
 		if (!seen && n < out.size())
-			out[n++] = f;
-	}
+			out[n++] = h;
+	};
+	if (config.polishRegistration)
+		for (size_t i = 0; i < std::min(registrationKeptCount_, wanted); ++i)
+			add(registrationKept_[i]);
+	if (config.polishForestBests)
+		for (const Hypothesis &f : forestBest)
+			add(f);
 	return n;
 }
 
@@ -912,7 +928,7 @@ PoseEstimator::Hypothesis PoseEstimator::scoreModes(int iteration, size_t modeCo
 		h.iteration = iteration;
 		h.valid = true;
 		report(iteration, "mode", static_cast<int>(m), h.pose, h.score, modes_[m].rotationDensity);
-		keep(h, same);
+		keep(h, same, iteration > 0);
 		if (!best.valid || h.score.score > best.score.score)
 			best = h;
 	}
@@ -1077,6 +1093,7 @@ EstimatorConfig underTightBudget(EstimatorConfig c)
 EstimatorConfig underShortBudget(EstimatorConfig c)
 {
 	c.icpConfig.iterations = underBound(c.icpConfig.iterations, c.shortIcpIterations);
+	c.icpConfig.renderOnce = c.icpConfig.renderOnce || c.shortIcpRenderOnce;
 	return c;
 }
 
@@ -1156,7 +1173,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	modeCfg.maxShiftVotes = config.maxShiftVotes;
 
 	cropRotation_ = crop->rotation;
-	keptCount_ = 0;
+	keptCount_ = registrationKeptCount_ = 0;
 	rivals_.clear();
 	modeCfg.rotationModesPerCentre = std::max(1, config.rotationModes);
 	modeCfg.maxSeeds = static_cast<int>(seeds_.size());

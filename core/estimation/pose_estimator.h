@@ -84,6 +84,12 @@ struct EstimatorConfig {
 	// After a refinement, also the forest's best of the registration and of
 	// the last iteration when the ranking leaves them out (up to 2 more).
 	bool polishForestBests = true;
+	// After a refinement, also the icpCandidates best distinct hypotheses
+	// of the registration and the view search alone (what k = 0 would
+	// polish, but for the search's centre) when the ranking leaves them
+	// out: refinement's modes must not crowd out a candidate the
+	// registration alone would have polished to the truth.
+	bool polishRegistration = true;
 	IcpConfig icpConfig;
 	// The winner's last polish: this many more ICP iterations, every one
 	// at icpConfig's final gate (minDistanceMm), kept when the score does
@@ -156,6 +162,11 @@ struct EstimatorConfig {
 	// (BENCHMARKS.md, session 25).
 	float budgetShortMs = 15.0f;
 	int shortIcpIterations = 5;
+	// and renders the model once a round, not every iteration
+	// (IcpConfig::renderOnce): a round ~0.45 -> ~0.35 ms at 10 ms, more
+	// rounds and searches; with more time the render each iteration is
+	// the more precise (BENCHMARKS.md, session 26).
+	bool shortIcpRenderOnce = true;
 	// A box's window at most this many pixels (0: EstimatorLimits::
 	// maxWindowPixels); a larger box is processed downsampled, as at the
 	// limit. Inside a budget the budget one: the render, score and polish
@@ -361,7 +372,11 @@ private:
 			     UnitCubeFrame &frame);
 	Hypothesis scoreModes(int iteration, size_t modeCount, const CameraIntrinsics &K,
 			      const ObjectModel &model, const EstimatorConfig &config);
-	void keep(const Hypothesis &h, float sameTranslationMm);
+	// Ranks h among the kept hypotheses (and, unless it is a refinement
+	// iteration's, among the registration's).
+	void keep(const Hypothesis &h, float sameTranslationMm, bool fromRefinement = false);
+	static void keepIn(std::span<Hypothesis> kept, size_t &count, const Hypothesis &h,
+			   float sameTranslationMm);
 	void searchRotationBank(const CameraIntrinsics &K, const ObjectModel &model,
 				const EstimatorConfig &config);
 	void searchViewTemplates(const CameraIntrinsics &K, const ObjectModel &model,
@@ -489,6 +504,9 @@ private:
 	std::span<ViewFineResult> viewFine_;
 	std::span<Hypothesis> kept_; // best distinct hypotheses, by score
 	size_t keptCount_ = 0;
+	// The same without the refinement iterations' modes.
+	std::span<Hypothesis> registrationKept_;
+	size_t registrationKeptCount_ = 0;
 	std::span<RivalPose> rivalStore_;
 	RivalPoses rivals_; // every scored hypothesis of the box (the best maxRivals)
 	Eigen::Matrix3d cropRotation_ = Eigen::Matrix3d::Identity();

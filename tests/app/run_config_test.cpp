@@ -135,6 +135,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.icp, b.icp);
 	EXPECT_EQ(a.icpCandidates, b.icpCandidates);
 	EXPECT_EQ(a.polishForestBests, b.polishForestBests);
+	EXPECT_EQ(a.polishRegistration, b.polishRegistration);
 	EXPECT_EQ(a.cullBackFaces, b.cullBackFaces);
 	EXPECT_EQ(a.finalIcpIterations, b.finalIcpIterations);
 	EXPECT_EQ(a.targetParts, b.targetParts);
@@ -155,6 +156,8 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.tightRotationModes, b.tightRotationModes);
 	EXPECT_EQ(a.budgetShortMs, b.budgetShortMs);
 	EXPECT_EQ(a.shortIcpIterations, b.shortIcpIterations);
+	EXPECT_EQ(a.shortIcpRenderOnce, b.shortIcpRenderOnce);
+	EXPECT_EQ(a.icpConfig.renderOnce, b.icpConfig.renderOnce);
 	EXPECT_EQ(none->limits.threads, bundled->limits.threads);
 	EXPECT_EQ(a.search.levels, b.search.levels);
 	EXPECT_EQ(a.bank.viewpoints, b.bank.viewpoints);

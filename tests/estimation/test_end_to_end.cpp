@@ -177,6 +177,40 @@ struct RecordedEvents final : EstimateObserver {
 // forest's own bests (the registration's and the last iteration's) are
 // polished even when they rank below the polish's count, so refinement
 // never drops a mode the registration alone would have polished.
+// Refinement's modes outrank some of the registration's; the registration's
+// best distinct hypotheses are polished all the same (k = 5 polishes what
+// k = 0 would), so refinement cannot lose a pose by crowding it out.
+TEST_F(EndToEnd, RefinementPolishesTheRegistrationsCandidates)
+{
+	RecordedEvents events;
+	const Pose gt = viewAt(5, Eigen::Vector3d(-30, 20, 780));
+	DepthImageMm depth(640, 480, 0.0f);
+	const PixelBox box = clutteredScene(gt, depth);
+
+	PoseEstimator estimator;
+	estimator.setObserver(&events);
+	EstimatorConfig cfg;
+	cfg.iterations = 2;
+	cfg.icpCandidates = 3;
+	cfg.polishForestBests = false;
+	cfg.halfTurns.candidates = 0;
+	auto polishedOfRegistration = [&]() {
+		return std::count_if(events.all.begin(), events.all.end(), [](const HypothesisEvent &ev) {
+			return std::string_view(ev.stage) == "icp" && ev.iteration == 0;
+		});
+	};
+	ASSERT_TRUE(estimator.estimate(depth.view(), kKinect, box, *model_, cfg).found);
+	const auto on = polishedOfRegistration();
+	// The registration's three best distinct modes, each polished once.
+	EXPECT_EQ(on, 3);
+
+	events.all.clear();
+	cfg.polishRegistration = false;
+	ASSERT_TRUE(estimator.estimate(depth.view(), kKinect, box, *model_, cfg).found);
+	// The scene is one where refinement's modes crowd some of them out.
+	EXPECT_LT(polishedOfRegistration(), on);
+}
+
 TEST_F(EndToEnd, RefinementPolishesTheForestsOwnBests)
 {
 	RecordedEvents events;
@@ -230,9 +264,11 @@ TEST_F(EndToEnd, RefinementPolishesTheForestsOwnBests)
 	// only one the ranking polishes here).
 	EXPECT_EQ(forced, 2);
 
-	// Off ([icp] forest_bests = false): the ranking's first alone.
+	// Off ([icp] forest_bests = false; the registration's candidates are
+	// its best here, so those off too): the ranking's first alone.
 	events.all.clear();
 	cfg.polishForestBests = false;
+	cfg.polishRegistration = false;
 	ASSERT_TRUE(estimator.estimate(depth.view(), kKinect, box, *model_, cfg).found);
 	EXPECT_EQ(std::count_if(events.all.begin(), events.all.end(),
 				[](const HypothesisEvent &ev) { return std::string_view(ev.stage) == "icp"; }),

@@ -819,19 +819,25 @@ TEST(EstimatorUnderBudget, AShortShareBoundsTheIcpIterations)
 	EXPECT_FALSE(ihf::shortShare(c, 20.0));
 	EXPECT_TRUE(ihf::tightShare(c, 20.0)); // 20 ms: tight, not short
 	EXPECT_EQ(ihf::underShortBudget(c).icpConfig.iterations, 5);
+	EXPECT_TRUE(ihf::underShortBudget(c).icpConfig.renderOnce); // one render a round
 	EXPECT_EQ(ihf::underTightBudget(ihf::underBudget(c)).icpConfig.iterations, 10);
+	EXPECT_FALSE(ihf::underTightBudget(ihf::underBudget(c)).icpConfig.renderOnce);
 	// A box's settings from its share: both profiles at 10 ms, the tight
 	// one alone at 20 ms.
 	const ihf::ShareSettings ten = ihf::underShare(c, 10.0), twenty = ihf::underShare(c, 20.0);
 	EXPECT_TRUE(ten.tight && ten.shortRounds);
 	EXPECT_EQ(ten.config.icpConfig.iterations, 5);
+	EXPECT_TRUE(ten.config.icpConfig.renderOnce);
 	EXPECT_TRUE(twenty.tight && !twenty.shortRounds);
 	EXPECT_EQ(twenty.config.icpConfig.iterations, 10);
+	EXPECT_FALSE(twenty.config.icpConfig.renderOnce);
 	c.icpConfig.iterations = 3; // already below
 	EXPECT_EQ(ihf::underShortBudget(c).icpConfig.iterations, 3);
 	c.icpConfig.iterations = 10;
 	c.shortIcpIterations = 0; // off
 	EXPECT_EQ(ihf::underShortBudget(c).icpConfig.iterations, 10);
+	c.shortIcpRenderOnce = false;
+	EXPECT_FALSE(ihf::underShortBudget(c).icpConfig.renderOnce);
 	c.budgetShortMs = 0; // never
 	EXPECT_FALSE(ihf::shortShare(c, 1.0));
 }
