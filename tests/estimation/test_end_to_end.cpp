@@ -101,6 +101,20 @@ protected:
 	}
 
 	static PixelBox clutteredScene(const Pose &gt, DepthImageMm &depth);
+	// A cluttered scene where two refinement iterations' modes outrank the
+	// registration's, and a config that refines there without half-turns.
+	static PixelBox crowdedScene(DepthImageMm &depth)
+	{
+		return clutteredScene(viewAt(5, Eigen::Vector3d(-30, 20, 780)), depth);
+	}
+	static EstimatorConfig refining(int icpCandidates)
+	{
+		EstimatorConfig cfg;
+		cfg.iterations = 2;
+		cfg.icpCandidates = icpCandidates;
+		cfg.halfTurns.candidates = 0;
+		return cfg;
+	}
 
 	static Trained *trained_;
 	static ObjectModel *model_;
@@ -173,27 +187,18 @@ struct RecordedEvents final : EstimateObserver {
 	void onHypothesis(const HypothesisEvent &e) override { all.push_back(e); }
 };
 
-// Refinement adds its modes to the ranking of the hypotheses to polish; the
-// forest's own bests (the registration's and the last iteration's) are
-// polished even when they rank below the polish's count, so refinement
-// never drops a mode the registration alone would have polished.
 // Refinement's modes outrank some of the registration's; the registration's
 // best distinct hypotheses are polished all the same (k = 5 polishes what
 // k = 0 would), so refinement cannot lose a pose by crowding it out.
 TEST_F(EndToEnd, RefinementPolishesTheRegistrationsCandidates)
 {
 	RecordedEvents events;
-	const Pose gt = viewAt(5, Eigen::Vector3d(-30, 20, 780));
 	DepthImageMm depth(640, 480, 0.0f);
-	const PixelBox box = clutteredScene(gt, depth);
-
+	const PixelBox box = crowdedScene(depth);
 	PoseEstimator estimator;
 	estimator.setObserver(&events);
-	EstimatorConfig cfg;
-	cfg.iterations = 2;
-	cfg.icpCandidates = 3;
+	EstimatorConfig cfg = refining(3);
 	cfg.polishForestBests = false;
-	cfg.halfTurns.candidates = 0;
 	auto polishedOfRegistration = [&]() {
 		return std::count_if(events.all.begin(), events.all.end(), [](const HypothesisEvent &ev) {
 			return std::string_view(ev.stage) == "icp" && ev.iteration == 0;
@@ -211,19 +216,18 @@ TEST_F(EndToEnd, RefinementPolishesTheRegistrationsCandidates)
 	EXPECT_LT(polishedOfRegistration(), on);
 }
 
+// Refinement adds its modes to the ranking of the hypotheses to polish; the
+// forest's own bests (the registration's and the last iteration's) are
+// polished even when they rank below the polish's count, so refinement
+// never drops a mode the registration alone would have polished.
 TEST_F(EndToEnd, RefinementPolishesTheForestsOwnBests)
 {
 	RecordedEvents events;
-	const Pose gt = viewAt(5, Eigen::Vector3d(-30, 20, 780));
 	DepthImageMm depth(640, 480, 0.0f);
-	const PixelBox box = clutteredScene(gt, depth);
-
+	const PixelBox box = crowdedScene(depth);
 	PoseEstimator estimator;
 	estimator.setObserver(&events);
-	EstimatorConfig cfg;
-	cfg.iterations = 2;
-	cfg.icpCandidates = 1; // the ranking alone polishes only its best
-	cfg.halfTurns.candidates = 0;
+	EstimatorConfig cfg = refining(1); // the ranking alone polishes only its best
 	PoseEstimate e = estimator.estimate(depth.view(), kKinect, box, *model_, cfg);
 	ASSERT_TRUE(e.found) << e.reason;
 
