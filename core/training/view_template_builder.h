@@ -18,7 +18,7 @@ namespace ihf {
 
 struct ViewTemplateConfig {
 	int viewpoints = 320;
-	int budgetViewpoints = 160; // when the estimator runs inside a frame budget
+	int budgetViewpoints = 120; // when the estimator runs inside a frame budget
 	int pointsPerView = 128;
 };
 
