@@ -21,12 +21,12 @@ IcpResult refineIcp(std::span<const CloudPoint> cloud, const Mesh &mesh, const P
 			if (!renderer.render(mesh, result.pose, K, render))
 				break;
 		}
-		// The pose change since the render (identity when rendered now):
-		// an observed point is looked up where it sat in the render's
-		// frame, and the surface point found there moved back.
+		// The pose change since the render: an observed point is looked
+		// up where it sat in the render's frame, and the surface point
+		// found there moved back (none when rendered now).
+		const bool moved = config.renderOnce && it > 0;
 		const Eigen::Matrix3d moveR = result.pose.R * start.R.transpose();
 		const Eigen::Vector3d moveT = result.pose.t - moveR * start.t;
-		const bool moved = config.renderOnce && it > 0;
 
 		const Eigen::Vector3d c = result.pose.t;
 		Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
@@ -37,27 +37,23 @@ IcpResult refineIcp(std::span<const CloudPoint> cloud, const Mesh &mesh, const P
 			if (!pt.hasNormal())
 				continue;
 			Eigen::Vector3d p = pt.p.cast<double>();
-			Eigen::Vector3d q;
+			int u = pt.u, v = pt.v;
 			if (moved) {
 				const Eigen::Vector3d p0 = moveR.transpose() * (p - moveT);
 				if (!(p0.z() > 0))
 					continue;
 				const Eigen::Vector2d uv = K.project(p0);
-				const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
-				if (!render.contains(u, v))
-					continue;
-				const float rz = render.at(u, v);
-				if (!(rz > 0))
-					continue;
-				q = moveR * K.backProject(u, v, rz) + moveT;
-			} else {
-				if (!render.contains(pt.u, pt.v))
-					continue;
-				const float rz = render.at(pt.u, pt.v);
-				if (!(rz > 0))
-					continue;
-				q = K.backProject(pt.u, pt.v, rz);
+				u = static_cast<int>(std::lround(uv.x()));
+				v = static_cast<int>(std::lround(uv.y()));
 			}
+			if (!render.contains(u, v))
+				continue;
+			const float rz = render.at(u, v);
+			if (!(rz > 0))
+				continue;
+			Eigen::Vector3d q = K.backProject(u, v, rz);
+			if (moved)
+				q = moveR * q + moveT;
 			if ((q - p).norm() > gate)
 				continue;
 			Eigen::Vector3d nn = pt.n.cast<double>();
