@@ -138,6 +138,10 @@ int runEstimate(const EstimateOptions &o)
 		s.estimator.views.inplane = 0;
 	if (o.noHalfTurns || o.paper)
 		s.estimator.halfTurns.candidates = 0;
+	if (o.paper) { // the paper's iterations vote as its registration does
+		s.estimator.iterationIbsMaxPoints = s.estimator.iterationIbsCgIterations = 0;
+		s.estimator.iterationMaxShiftVotes = s.estimator.iterationTargetParts = 0;
+	}
 	if (o.budgetMs >= 0)
 		s.estimator.frameBudgetMs = static_cast<float>(o.budgetMs);
 	if (o.threads >= 0)
@@ -354,7 +358,8 @@ void addEstimateCommand(CLI::App &root, Action &action)
 	cmd->add_flag("--no-icp", opts->noIcp, "Skip the final ICP polish");
 	cmd->add_flag("--no-views", opts->noViews, "Skip the view-template rotation search");
 	cmd->add_flag("--no-half-turns", opts->noHalfTurns, "Skip the half-turns of the best hypotheses");
-	cmd->add_flag("--paper", opts->paper, "The paper's method alone: --no-icp --no-views --no-half-turns");
+	cmd->add_flag("--paper", opts->paper,
+		      "The paper's method alone: --no-icp --no-views --no-half-turns, refinement iterations voting as the registration");
 	cmd->add_option("--budget-ms", opts->budgetMs,
 			"Time budget per frame in ms, shared by its boxes (0: unlimited; default from the config, 33)")
 		->check(CLI::Range(0.0, 1e6));

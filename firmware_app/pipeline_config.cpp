@@ -293,6 +293,10 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	ref.get("hypothesis_cube", e.hypothesisCube);
 	ref.get("depth_window_width", e.depthWindowWidth);
 	ref.get("min_valid_pixels", e.minValidPixels);
+	ref.get("iteration_ibs_max_points", e.iterationIbsMaxPoints);
+	ref.get("iteration_ibs_cg_iterations", e.iterationIbsCgIterations);
+	ref.get("iteration_max_shift_votes", e.iterationMaxShiftVotes);
+	ref.get("iteration_target_parts", e.iterationTargetParts);
 	IHF_SECTION(ref);
 
 	TableReader votes(root["votes"].as_table(), file, "votes");
@@ -428,6 +432,10 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	for (Status st : {inRange(e.iterations >= 0, "refinement.iterations"),
 			  inRange(e.psi1 > 0 && e.psi2 >= e.psi1, "refinement.psi1/psi2"),
 			  inRange(e.depthWindows >= 0 && e.depthWindows <= 8, "refinement.depth_windows"),
+			  inRange(e.iterationIbsMaxPoints >= 0, "refinement.iteration_ibs_max_points"),
+			  inRange(e.iterationIbsCgIterations >= 0, "refinement.iteration_ibs_cg_iterations"),
+			  inRange(e.iterationMaxShiftVotes >= 0, "refinement.iteration_max_shift_votes"),
+			  inRange(e.iterationTargetParts >= 0, "refinement.iteration_target_parts"),
 			  inRange(e.maxHypotheses >= 1, "votes.max_hypotheses"),
 			  inRange(e.rotationModes >= 1 && e.rotationModes <= 16, "votes.rotation_modes"),
 			  inRange(e.maxShiftVotes >= 0, "votes.max_shift_votes"),

@@ -1097,6 +1097,15 @@ EstimatorConfig underShortBudget(EstimatorConfig c)
 	return c;
 }
 
+EstimatorConfig forIterations(EstimatorConfig c)
+{
+	c.ibsMaxPoints = underBound(c.ibsMaxPoints, c.iterationIbsMaxPoints);
+	c.ibsCgIterations = underBound(c.ibsCgIterations, c.iterationIbsCgIterations);
+	c.maxShiftVotes = underBound(c.maxShiftVotes, c.iterationMaxShiftVotes);
+	c.targetParts = underBound(c.targetParts, c.iterationTargetParts);
+	return c;
+}
+
 ShareSettings underShare(const EstimatorConfig &c, double shareMs)
 {
 	ShareSettings s{underBudget(c)};
@@ -1194,6 +1203,8 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	// The forest's own bests, of the registration and of the last
 	// refinement: polished even when view proposals outrank them.
 	Hypothesis forestBest[2];
+	// Refinement iterations vote leaner (the iteration* bounds).
+	const EstimatorConfig iterationCfg = forIterations(config);
 	for (int k = 0; k <= config.iterations; ++k) {
 		if (k > 0 && !refinementFits(config)) {
 			out.budgetStopped = true;
@@ -1218,8 +1229,8 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 			if (n < config.minValidPixels)
 				continue;
 			int partCount = 0;
-			int votes = voteOnce(vk, model, config, n, k > 0 && haveFrame ? &cube : nullptr,
-					     partCount);
+			int votes = voteOnce(vk, model, k > 0 ? iterationCfg : config, n,
+					     k > 0 && haveFrame ? &cube : nullptr, partCount);
 			out.parts = partCount;
 			out.votes = votes;
 			if (votes == 0)
@@ -1227,6 +1238,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 			if (observer_)
 				observer_->onVotes({k, static_cast<int>(pass), cropRotation_,
 						    std::span<const CastVote>(votes_.data(), votes)});
+			modeCfg.maxShiftVotes = k > 0 ? iterationCfg.maxShiftVotes : config.maxShiftVotes;
 			size_t modes = findPoseModes(std::span(votes_.data(), votes), modeCfg,
 						     {modeScratch_, seeds_, modeSupport_, modePacked_, &workers_,
 						      modeThreadScratch_, modeThreadSupport_},

@@ -121,6 +121,17 @@ struct EstimatorConfig {
 	// normalises with the whole silhouette; false: the paper's Eq. 1 on
 	// the masked cloud.
 	bool hypothesisCube = true;
+	// Refinement iterations (k > 0) vote leaner than the registration:
+	// each bounds its setting as the tight profile's do (0: as the
+	// registration). The registration has to find the object; an
+	// iteration re-votes on a crop already cut to its hypothesis' depth
+	// range, and its modes only add candidates to the polish. Session 27:
+	// k = 5 the same mean F1 (16 object-forest-benchmark pairs) at 30-37 %
+	// less time a box (BENCHMARKS.md).
+	int iterationIbsMaxPoints = 300;
+	int iterationIbsCgIterations = 6;
+	int iterationMaxShiftVotes = 1024;
+	int iterationTargetParts = 100;
 	float frameBudgetMs = 0; // per frame, shared by its boxes; 0: unlimited
 	// Inside a frame budget, at most this many refinement iterations and
 	// depth slabs (-1: as without a budget; the view search has its own,
@@ -192,6 +203,8 @@ EstimatorConfig underBudget(EstimatorConfig c);
 EstimatorConfig underTightBudget(EstimatorConfig c);
 // and inside a short one (shorter than budgetShortMs), applied to those.
 EstimatorConfig underShortBudget(EstimatorConfig c);
+// The settings a refinement iteration votes with (the iteration* bounds).
+EstimatorConfig forIterations(EstimatorConfig c);
 // Whether a box with shareMs of its frame left (the frame itself for a
 // frame's only box) runs the tight profile.
 inline bool tightShare(const EstimatorConfig &c, double shareMs)

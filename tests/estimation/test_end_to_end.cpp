@@ -216,6 +216,57 @@ TEST_F(EndToEnd, RefinementPolishesTheRegistrationsCandidates)
 	EXPECT_LT(polishedOfRegistration(), on);
 }
 
+// Votes cast per iteration (the registration's passes summed).
+struct VotesPerIteration final : EstimateObserver {
+	std::vector<size_t> votes;
+	void onHypothesis(const HypothesisEvent &) override {}
+	void onVotes(const VoteEvent &e) override
+	{
+		if (votes.size() <= static_cast<size_t>(e.iteration))
+			votes.resize(static_cast<size_t>(e.iteration) + 1, 0);
+		votes[static_cast<size_t>(e.iteration)] += e.votes.size();
+	}
+};
+
+// A refinement iteration votes with its own bounds (fewer parts here, so
+// fewer votes); the registration's vote is the one it was. Unset (0), an
+// iteration votes as the registration.
+TEST_F(EndToEnd, RefinementIterationsVoteWithTheirOwnBounds)
+{
+	DepthImageMm depth(640, 480, 0.0f);
+	const Pose gt = viewAt(37, Eigen::Vector3d(60, -40, 800));
+	const PixelBox box = clutteredScene(gt, depth);
+	EstimatorConfig cfg = refining(1);
+	cfg.iterationIbsMaxPoints = cfg.iterationIbsCgIterations = 0; // as the registration
+	cfg.iterationMaxShiftVotes = cfg.iterationTargetParts = 0;
+	auto votesPerIteration = [&]() {
+		VotesPerIteration seen;
+		PoseEstimator estimator;
+		estimator.setObserver(&seen);
+		EXPECT_TRUE(estimator.estimate(depth.view(), kKinect, box, *model_, cfg).found);
+		return seen.votes;
+	};
+	const std::vector<size_t> full = votesPerIteration();
+	ASSERT_EQ(full.size(), 3u);
+	cfg.iterationTargetParts = 2;
+	cfg.iterationIbsMaxPoints = 200;
+	cfg.iterationMaxShiftVotes = 256;
+	const std::vector<size_t> lean = votesPerIteration();
+	ASSERT_EQ(lean.size(), 3u);
+	EXPECT_EQ(lean[0], full[0]);
+	EXPECT_GT(lean[1], 0u);
+	EXPECT_LT(2 * lean[1], full[1]);
+	EXPECT_LT(2 * lean[2], full[2]);
+
+	const EstimatorConfig it = forIterations(cfg);
+	EXPECT_EQ(it.targetParts, 2);
+	EXPECT_EQ(it.maxShiftVotes, 256);
+	EXPECT_EQ(it.ibsMaxPoints, 200);
+	EXPECT_EQ(it.ibsCgIterations, cfg.ibsCgIterations); // unset: as the registration's
+	cfg.iterationTargetParts = 100000; // a bound never raises a setting
+	EXPECT_EQ(forIterations(cfg).targetParts, cfg.targetParts);
+}
+
 // Refinement adds its modes to the ranking of the hypotheses to polish; the
 // forest's own bests (the registration's and the last iteration's) are
 // polished even when they rank below the polish's count, so refinement

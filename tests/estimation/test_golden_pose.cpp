@@ -239,6 +239,10 @@ TEST(GoldenPose, Amd64ForestAndFrameGiveTheAmd64Poses)
 	// The golden poses were made polishing 8 hypotheses, the default until
 	// session 9 (now 16: the same code, more of it).
 	config.icpCandidates = 8;
+	// and with refinement iterations voting as the registration does, the
+	// default until session 27.
+	config.iterationIbsMaxPoints = config.iterationIbsCgIterations = 0;
+	config.iterationMaxShiftVotes = config.iterationTargetParts = 0;
 	const bool small = std::getenv("IHF_GOLDEN_SMALL") != nullptr;
 	ASSERT_FALSE(small && write) << "golden poses come from the full run";
 	if (small) {
