@@ -132,16 +132,14 @@ int runEstimate(const EstimateOptions &o)
 	EstimateSettings &s = *settings;
 	if (o.iterations >= 0)
 		s.estimator.iterations = o.iterations;
-	if (o.noIcp || o.paper)
+	if (o.paper)
+		applyPapersMethod(s.estimator);
+	if (o.noIcp)
 		s.estimator.icp = false;
-	if (o.noViews || o.paper)
+	if (o.noViews)
 		s.estimator.views.inplane = 0;
-	if (o.noHalfTurns || o.paper)
+	if (o.noHalfTurns)
 		s.estimator.halfTurns.candidates = 0;
-	if (o.paper) { // the paper's iterations vote as its registration does
-		s.estimator.iterationIbsMaxPoints = s.estimator.iterationIbsCgIterations = 0;
-		s.estimator.iterationMaxShiftVotes = s.estimator.iterationTargetParts = 0;
-	}
 	if (o.budgetMs >= 0)
 		s.estimator.frameBudgetMs = static_cast<float>(o.budgetMs);
 	if (o.threads >= 0)

@@ -271,6 +271,15 @@ Expected<TrainSettings> loadTrainConfig(const std::filesystem::path &path)
 	return s;
 }
 
+void applyPapersMethod(EstimatorConfig &e)
+{
+	e.icp = false;
+	e.views.inplane = 0;
+	e.halfTurns.candidates = 0;
+	e.iterationIbsMaxPoints = e.iterationIbsCgIterations = 0;
+	e.iterationMaxShiftVotes = e.iterationTargetParts = 0;
+}
+
 Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 {
 	EstimateSettings s;

@@ -95,6 +95,9 @@ struct RunSettings {
 // An empty path gives the defaults.
 Expected<TrainSettings> loadTrainConfig(const std::filesystem::path &path);
 Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path);
+// The paper's method alone (`ihf estimate --paper`): no ICP, view search or
+// half-turns, and refinement iterations voting as the registration does.
+void applyPapersMethod(EstimatorConfig &e);
 Expected<RunSettings> loadRunConfig(const std::filesystem::path &path);
 
 } // namespace ihf::app

@@ -139,6 +139,10 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.cullBackFaces, b.cullBackFaces);
 	EXPECT_EQ(a.finalIcpIterations, b.finalIcpIterations);
 	EXPECT_EQ(a.targetParts, b.targetParts);
+	EXPECT_EQ(a.iterationTargetParts, b.iterationTargetParts);
+	EXPECT_EQ(a.iterationIbsMaxPoints, b.iterationIbsMaxPoints);
+	EXPECT_EQ(a.iterationIbsCgIterations, b.iterationIbsCgIterations);
+	EXPECT_EQ(a.iterationMaxShiftVotes, b.iterationMaxShiftVotes);
 	EXPECT_EQ(a.frameBudgetMs, b.frameBudgetMs);
 	EXPECT_EQ(a.budgetIterations, b.budgetIterations);
 	EXPECT_EQ(a.budgetDepthWindows, b.budgetDepthWindows);
@@ -240,6 +244,10 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[votes]\nmax_shift_votes = -1\n", "votes.max_shift_votes"},
 		     {"[limits]\nthreads = 9\n", "limits.threads"},
 		     {"[limits]\nthreads = -1\n", "limits.threads"},
+		     {"[refinement]\niteration_target_parts = -1\n", "refinement.iteration_target_parts"},
+		     {"[refinement]\niteration_ibs_max_points = -1\n", "refinement.iteration_ibs_max_points"},
+		     {"[refinement]\niteration_ibs_cg_iterations = -1\n", "refinement.iteration_ibs_cg_iterations"},
+		     {"[refinement]\niteration_max_shift_votes = -1\n", "refinement.iteration_max_shift_votes"},
 		     {"[refinement]\npsi1 = 1.1\npsi2 = 1.0\n", "refinement.psi1/psi2"}}) {
 		std::ofstream(dir / "e.toml") << text;
 		auto s = loadEstimateConfig(dir / "e.toml");
@@ -247,6 +255,30 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		EXPECT_NE(s.error().message.find(key), std::string::npos) << s.error().message;
 		EXPECT_NE(s.error().message.find("e.toml"), std::string::npos) << s.error().message;
 	}
+}
+
+// --paper: the paper's method alone (no ICP, view search or half-turns), its
+// refinement iterations voting as its registration does.
+TEST(EstimateConfig, ThePapersMethodDropsTheAdditions)
+{
+	auto settings = loadEstimateConfig(test::sourceDir() / "config" / "estimate.toml");
+	ASSERT_TRUE(settings.ok()) << settings.error().message;
+	EstimatorConfig e = settings->estimator;
+	// The shipped config has them all on, and its iterations leaner.
+	ASSERT_TRUE(e.icp);
+	ASSERT_GT(e.views.inplane, 0);
+	ASSERT_GT(e.halfTurns.candidates, 0);
+	ASSERT_LT(forIterations(e).targetParts, e.targetParts);
+	applyPapersMethod(e);
+	EXPECT_FALSE(e.icp);
+	EXPECT_EQ(e.views.inplane, 0);
+	EXPECT_EQ(e.halfTurns.candidates, 0);
+	const EstimatorConfig it = forIterations(e);
+	EXPECT_EQ(it.targetParts, e.targetParts);
+	EXPECT_EQ(it.ibsMaxPoints, e.ibsMaxPoints);
+	EXPECT_EQ(it.ibsCgIterations, e.ibsCgIterations);
+	EXPECT_EQ(it.maxShiftVotes, e.maxShiftVotes);
+	EXPECT_EQ(e.iterations, settings->estimator.iterations); // k is the caller's
 }
 
 // View templates are built at load with the offline viewpoint count, or the
