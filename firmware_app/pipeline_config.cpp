@@ -276,8 +276,7 @@ void applyPapersMethod(EstimatorConfig &e)
 	e.icp = false;
 	e.views.inplane = 0;
 	e.halfTurns.candidates = 0;
-	e.iterationIbsMaxPoints = e.iterationIbsCgIterations = 0;
-	e.iterationMaxShiftVotes = e.iterationTargetParts = 0;
+	iterationsAsRegistration(e);
 }
 
 Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)

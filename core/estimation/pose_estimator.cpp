@@ -1097,6 +1097,12 @@ EstimatorConfig underShortBudget(EstimatorConfig c)
 	return c;
 }
 
+void iterationsAsRegistration(EstimatorConfig &c)
+{
+	c.iterationIbsMaxPoints = c.iterationIbsCgIterations = 0;
+	c.iterationMaxShiftVotes = c.iterationTargetParts = 0;
+}
+
 EstimatorConfig forIterations(EstimatorConfig c)
 {
 	c.ibsMaxPoints = underBound(c.ibsMaxPoints, c.iterationIbsMaxPoints);
@@ -1179,7 +1185,6 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	VoteModeConfig modeCfg;
 	modeCfg.translationBandwidth = static_cast<float>(config.translationBandwidth * params.diameter);
 	modeCfg.rotationBandwidth = config.rotationBandwidthDeg * static_cast<float>(M_PI / 180.0);
-	modeCfg.maxShiftVotes = config.maxShiftVotes;
 
 	cropRotation_ = crop->rotation;
 	keptCount_ = registrationKeptCount_ = 0;
@@ -1214,6 +1219,8 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		// The initial registration votes once per depth window (or once on
 		// the whole box); refinement once on the masked crop.
 		const size_t passes = k == 0 ? std::max<size_t>(1, windows) : 1;
+		const EstimatorConfig &voteCfg = k > 0 ? iterationCfg : config;
+		modeCfg.maxShiftVotes = voteCfg.maxShiftVotes;
 		Hypothesis iterBest;
 		for (size_t pass = 0; pass < passes; ++pass) {
 			// The first slab always runs (every box gets a pose); a
@@ -1229,8 +1236,8 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 			if (n < config.minValidPixels)
 				continue;
 			int partCount = 0;
-			int votes = voteOnce(vk, model, k > 0 ? iterationCfg : config, n,
-					     k > 0 && haveFrame ? &cube : nullptr, partCount);
+			int votes = voteOnce(vk, model, voteCfg, n, k > 0 && haveFrame ? &cube : nullptr,
+					     partCount);
 			out.parts = partCount;
 			out.votes = votes;
 			if (votes == 0)
@@ -1238,7 +1245,6 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 			if (observer_)
 				observer_->onVotes({k, static_cast<int>(pass), cropRotation_,
 						    std::span<const CastVote>(votes_.data(), votes)});
-			modeCfg.maxShiftVotes = k > 0 ? iterationCfg.maxShiftVotes : config.maxShiftVotes;
 			size_t modes = findPoseModes(std::span(votes_.data(), votes), modeCfg,
 						     {modeScratch_, seeds_, modeSupport_, modePacked_, &workers_,
 						      modeThreadScratch_, modeThreadSupport_},

@@ -203,8 +203,10 @@ EstimatorConfig underBudget(EstimatorConfig c);
 EstimatorConfig underTightBudget(EstimatorConfig c);
 // and inside a short one (shorter than budgetShortMs), applied to those.
 EstimatorConfig underShortBudget(EstimatorConfig c);
-// The settings a refinement iteration votes with (the iteration* bounds).
+// The settings a refinement iteration votes with (the iteration* bounds);
+// and the bounds lifted, so that iterations vote as the registration does.
 EstimatorConfig forIterations(EstimatorConfig c);
+void iterationsAsRegistration(EstimatorConfig &c);
 // Whether a box with shareMs of its frame left (the frame itself for a
 // frame's only box) runs the tight profile.
 inline bool tightShare(const EstimatorConfig &c, double shareMs)

@@ -237,8 +237,7 @@ TEST_F(EndToEnd, RefinementIterationsVoteWithTheirOwnBounds)
 	const Pose gt = viewAt(37, Eigen::Vector3d(60, -40, 800));
 	const PixelBox box = clutteredScene(gt, depth);
 	EstimatorConfig cfg = refining(1);
-	cfg.iterationIbsMaxPoints = cfg.iterationIbsCgIterations = 0; // as the registration
-	cfg.iterationMaxShiftVotes = cfg.iterationTargetParts = 0;
+	iterationsAsRegistration(cfg);
 	auto votesPerIteration = [&]() {
 		VotesPerIteration seen;
 		PoseEstimator estimator;

@@ -241,8 +241,7 @@ TEST(GoldenPose, Amd64ForestAndFrameGiveTheAmd64Poses)
 	config.icpCandidates = 8;
 	// and with refinement iterations voting as the registration does, the
 	// default until session 27.
-	config.iterationIbsMaxPoints = config.iterationIbsCgIterations = 0;
-	config.iterationMaxShiftVotes = config.iterationTargetParts = 0;
+	iterationsAsRegistration(config);
 	const bool small = std::getenv("IHF_GOLDEN_SMALL") != nullptr;
 	ASSERT_FALSE(small && write) << "golden poses come from the full run";
 	if (small) {
