@@ -385,6 +385,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	turns.get("keep", e.halfTurns.keep);
 	turns.get("align", e.halfTurns.align);
 	turns.get("inlier_pivot", e.halfTurns.inlierPivot);
+	turns.get("screen", e.halfTurns.screen);
 	IHF_SECTION(turns);
 
 	TableReader conf(root["confidence"].as_table(), file, "confidence");
@@ -496,6 +497,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(s.viewTemplates.pointsPerView >= 8 && s.viewTemplates.pointsPerView <= kMaxViewPoints, "view_search.points"),
 			  inRange(e.halfTurns.candidates >= 0 && e.halfTurns.candidates <= 4, "half_turns.candidates"),
 			  inRange(e.halfTurns.axes >= 0 && e.halfTurns.axes <= 1024, "half_turns.axes"),
+			  inRange(e.halfTurns.screen >= 0 && e.halfTurns.screen <= 32, "half_turns.screen"),
 			  inRange(e.halfTurns.keep >= 1 && e.halfTurns.keep <= 4, "half_turns.keep"),
 			  inRange(e.confidence.distinctShare > 0 && e.confidence.distinctShare <= 1,
 				  "confidence.distinct_share"),

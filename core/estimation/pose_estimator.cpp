@@ -629,11 +629,20 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 		sources[ns++] = *next;
 	}
 	const int keepN = std::clamp(cfg.keep, 1, kMaxKeep);
+	const ViewTemplates &templates = model.viewTemplates();
+	// The inliers' pivot needs a render of its source: turns about it are
+	// rendered as before.
+	const bool screening = cfg.screen > 0 && !cfg.inlierPivot && !templates.empty();
 	Hypothesis found = best;
 	for (int c = 0; c < ns; ++c) {
 		if (!boxFits(costs_.bound(Stage::kHalfTurns, config.budgetMargin, boxWork_)))
 			break;
 		const int64_t start = timer_.last();
+		if (screening) {
+			screenHalfTurns(K, model, config, sources[c], centre, keepN, c * keepN, found);
+			costs_.observe(Stage::kHalfTurns, timer_.lap(Stage::kHalfTurns) - start, boxWork_);
+			continue;
+		}
 		const std::optional<Eigen::Vector3d> shown = cfg.align ? shownCentroid(sources[c].pose, K, model)
 								      : std::nullopt;
 		std::optional<Eigen::Vector3d> pivot;
@@ -692,6 +701,87 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 		costs_.observe(Stage::kHalfTurns, timer_.lap(Stage::kHalfTurns) - start, boxWork_);
 	}
 	return found;
+}
+
+// One source's half-turns screened on the view templates: every turn placed
+// by its template's centroid and scored sparsely, the `screen` best rendered
+// and scored, the keepN best of those polished (reported from rankBase);
+// found takes any better one.
+void PoseEstimator::screenHalfTurns(const CameraIntrinsics &K, const ObjectModel &model,
+				    const EstimatorConfig &config, const Hypothesis &source,
+				    const Eigen::Vector3d &centre, int keepN, int rankBase, Hypothesis &found)
+{
+	constexpr int kMaxScreen = 32, kMaxKeep = 4;
+	const HalfTurnConfig &cfg = config.halfTurns;
+	const ViewTemplates &templates = model.viewTemplates();
+	ViewSearchConfig vc = config.views;
+	vc.outlierWeight = config.score.outlierWeight;
+	vc.occludedWeight = config.score.occludedWeight;
+	vc.residualWeight = config.score.residualWeight;
+	const BoxAxes axes{!openSides_.left && !openSides_.right, !openSides_.top && !openSides_.bottom, openSides_};
+	// Where the source shows its surface, by the same rule as the turns'.
+	const int sourceView = nearestView(templates, source.pose);
+	if (sourceView < 0)
+		return;
+	const Eigen::Vector3d shown = source.pose.apply(viewCentroid(templates, sourceView));
+	// The best `screen` turns by the sparse score, best first (ties: the
+	// earlier axis).
+	struct Screened {
+		float score;
+		Pose pose;
+	};
+	std::array<Screened, kMaxScreen> screened;
+	const int want = std::min(cfg.screen, kMaxScreen);
+	int ns = 0;
+	for (int i = 0; i < cfg.axes; ++i) {
+		Pose p = turnedAbout(source.pose, halfTurn(i, cfg.axes), centre);
+		int v = nearestView(templates, p);
+		if (v >= 0 && cfg.align) {
+			p.t += shown - p.apply(viewCentroid(templates, v));
+			v = nearestView(templates, p);
+		}
+		if (v < 0)
+			continue;
+		Eigen::Vector3d t;
+		const float s = sparsePoseScore(templates, v, vc, observedView_, K, p, axes, t);
+		if (!(s > 0) || (ns == want && s <= screened[static_cast<size_t>(ns - 1)].score))
+			continue;
+		p.t = t;
+		int pos = std::min(ns, want - 1);
+		while (pos > 0 && screened[static_cast<size_t>(pos - 1)].score < s) {
+			screened[static_cast<size_t>(pos)] = screened[static_cast<size_t>(pos - 1)];
+			--pos;
+		}
+		screened[static_cast<size_t>(pos)] = Screened{s, p};
+		ns = std::min(ns + 1, want);
+	}
+	Hypothesis turns[kMaxScreen];
+	workers_.run(ns, [&](int k, int slot) {
+		Hypothesis &h = turns[k];
+		h.pose = screened[static_cast<size_t>(k)].pose;
+		h.valid = h.pose.t.z() > 0;
+		if (!h.valid)
+			return;
+		h.score = score(h.pose, K, model, config, slot);
+		h.iteration = source.iteration;
+	});
+	Hypothesis top[kMaxKeep];
+	int nt = 0;
+	for (int k = 0; k < ns; ++k)
+		if (turns[k].valid)
+			insertTop(turns[k], top, nt, keepN);
+	Hypothesis polishedTurns[kMaxKeep];
+	if (config.icp)
+		workers_.run(nt, [&](int j, int slot) {
+			polishedTurns[j] = polishOn(top[j], K, model, config, Stage::kHalfTurns, slot, config.icpConfig);
+		});
+	for (int j = 0; j < nt; ++j) {
+		const Hypothesis &p = polishedTurns[j];
+		const Hypothesis &r = p.valid ? p : top[j];
+		report(r.iteration, "half_turn", rankBase + j, r.pose, r.score, 0);
+		if (r.score.score > found.score.score)
+			found = r;
+	}
 }
 
 int PoseEstimator::buildCloud(ImageView<const float> depth, const CameraIntrinsics &K,

@@ -11,6 +11,7 @@
 
 #include "core/forest/forest_view.h"
 #include "core/geometry/mesh.h"
+#include "core/geometry/rotation.h"
 #include "core/model/model_params.h"
 #include "core/pose/view_templates.h"
 
@@ -44,15 +45,24 @@ public:
 	void attachViewTemplates(int viewpoints, int pointsPerView, std::vector<Eigen::Vector3f> points)
 	{
 		ownedViews_ = std::move(points);
-		views_ = ViewTemplates{viewpoints, pointsPerView, ownedViews_};
+		setViewTemplates(ViewTemplates{viewpoints, pointsPerView, ownedViews_});
 	}
 
 protected:
-	// Templates that live elsewhere (the mapped file).
-	void setViewTemplates(const ViewTemplates &views) { views_ = views; }
+	// Templates that live elsewhere (the mapped file); their viewpoints'
+	// directions are tabled here, at load.
+	void setViewTemplates(const ViewTemplates &views)
+	{
+		views_ = views;
+		viewDirections_.clear();
+		for (int v = 0; v < views.viewpoints; ++v)
+			viewDirections_.push_back(fibonacciDirection(v, views.viewpoints).cast<float>());
+		views_.directions = viewDirections_;
+	}
 
 private:
 	std::vector<Eigen::Vector3f> ownedViews_;
+	std::vector<Eigen::Vector3f> viewDirections_;
 	ViewTemplates views_;
 	Mesh renderMesh_;
 	bool renderClosed_ = false;

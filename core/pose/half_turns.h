@@ -30,6 +30,13 @@ struct HalfTurnConfig {
 	// from the truth, which the centroid alignment above misses; on the
 	// 8 x 200 synthetic boxes a wash (config/estimate.toml), so off.
 	bool inlierPivot = false;
+	// Screen the turns before rendering any: each is placed (`align`) and
+	// scored on the view template nearest it (view_search.h,
+	// sparsePoseScore), and only the `screen` best are rendered and scored
+	// in full; a render of every turn was most of a half-turn search's
+	// time. 0: every turn rendered (placed by the centroid of its render),
+	// as also without templates or with inlierPivot.
+	int screen = 8;
 };
 
 inline bool halfTurnsEnabled(const HalfTurnConfig &c) { return c.candidates > 0 && c.axes > 0; }

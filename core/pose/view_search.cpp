@@ -289,7 +289,68 @@ struct EvalScratch {
 constexpr int kCoarseViewsPerTask = 8;
 constexpr int kFinePerTask = 32;
 
+// View v's points without the repeats of its last one that pad a view with
+// fewer visible points.
+int distinctPoints(std::span<const Eigen::Vector3f> pts)
+{
+	int m = std::min(static_cast<int>(pts.size()), kMaxViewPoints);
+	while (m > 1 && pts[static_cast<size_t>(m - 1)] == pts[static_cast<size_t>(m - 2)])
+		--m;
+	return m;
+}
+
 } // namespace
+
+int nearestView(const ViewTemplates &templates, const Pose &pose)
+{
+	if (templates.empty() || !(pose.t.z() > 0))
+		return -1;
+	const Eigen::Vector3f d = (-(pose.R.transpose() * pose.t).normalized()).cast<float>();
+	const bool tabled = templates.directions.size() == static_cast<size_t>(templates.viewpoints);
+	int best = 0;
+	float bestDot = -2.0f;
+	for (int v = 0; v < templates.viewpoints; ++v) {
+		const Eigen::Vector3f dv = tabled ? templates.directions[static_cast<size_t>(v)]
+						  : fibonacciDirection(v, templates.viewpoints).cast<float>();
+		const float dot = dv.dot(d);
+		if (dot > bestDot) {
+			bestDot = dot;
+			best = v;
+		}
+	}
+	return best;
+}
+
+Eigen::Vector3d viewCentroid(const ViewTemplates &templates, int v)
+{
+	const std::span<const Eigen::Vector3f> pts = templates.view(v);
+	const int m = distinctPoints(pts);
+	Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+	for (int i = 0; i < m; ++i)
+		sum += pts[static_cast<size_t>(i)].cast<double>();
+	return m > 0 ? Eigen::Vector3d(sum / m) : sum;
+}
+
+float sparsePoseScore(const ViewTemplates &templates, int v, const ViewSearchConfig &config,
+		      ImageView<const float> observed, const CameraIntrinsics &K, const Pose &pose, BoxAxes box,
+		      Eigen::Vector3d &aligned)
+{
+	aligned = pose.t;
+	if (templates.empty() || v < 0 || v >= templates.viewpoints || !(pose.t.z() > 1.0))
+		return 0.0f;
+	const std::span<const Eigen::Vector3f> pts = templates.view(v);
+	const int m = distinctPoints(pts);
+	ViewPoints posed;
+	const Eigen::Matrix3f R = pose.R.cast<float>();
+	for (int i = 0; i < m; ++i)
+		posed.set(i, R * pts[static_cast<size_t>(i)]);
+	const SparseScorer scorer(config, observed, K, box);
+	std::array<float, kMaxViewPoints> res;
+	Eigen::Vector3f t = pose.t.cast<float>();
+	const float score = scorer.score(scorer.aligned(TurnedView{&posed, m, 1.0f, 0.0f}, t, res.data()), m);
+	aligned = t.cast<double>();
+	return score;
+}
 
 size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &config,
 		   ImageView<const float> observed, const CameraIntrinsics &K,

@@ -188,4 +188,24 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		   const Eigen::Vector3d &centre, std::span<ViewProposal> out, BoxAxes box = {},
 		   float anchorDepth = 0.0f, WorkerPool *pool = nullptr, ViewSearchWorkspace workspace = {});
 
+// The view whose direction is nearest the one from which `pose` (model ->
+// camera) shows the model: from the model's origin along its ray towards
+// the camera. -1 when the templates are empty or the origin is not in
+// front of the camera.
+int nearestView(const ViewTemplates &templates, const Pose &pose);
+
+// The centroid (model frame) of view v's points: the middle of the surface
+// a pose near that view shows, without a render.
+Eigen::Vector3d viewCentroid(const ViewTemplates &templates, int v);
+
+// searchViews' sparse score of one pose (not only a template's rotation):
+// the points of view v (nearestView's) posed by `pose` and tallied against
+// `observed`, after the translation has been moved along its ray by their
+// median depth residual (config.maxShiftMm > 0), which `aligned` receives.
+// A few hundred point projections instead of a render: screens many poses
+// for the few worth a full score.
+float sparsePoseScore(const ViewTemplates &templates, int v, const ViewSearchConfig &config,
+		      ImageView<const float> observed, const CameraIntrinsics &K, const Pose &pose, BoxAxes box,
+		      Eigen::Vector3d &aligned);
+
 } // namespace ihf

@@ -22,6 +22,10 @@ struct ViewTemplates {
 	// viewpoints x pointsPerView points; a view with fewer visible points
 	// repeats its last one (a repeat counts twice, harmless for a score).
 	std::span<const Eigen::Vector3f> points;
+	// Optional: the viewpoints' unit directions (from the model's origin
+	// towards the camera), so that finding the view nearest a pose needs no
+	// trigonometry (view_search.h, nearestView); empty: computed on demand.
+	std::span<const Eigen::Vector3f> directions = {};
 
 	bool empty() const { return viewpoints <= 0 || pointsPerView <= 0 || points.empty(); }
 	std::span<const Eigen::Vector3f> view(int v) const

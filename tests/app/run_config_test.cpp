@@ -195,6 +195,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.halfTurns.keep, b.halfTurns.keep);
 	EXPECT_EQ(a.halfTurns.align, b.halfTurns.align);
 	EXPECT_EQ(a.halfTurns.inlierPivot, b.halfTurns.inlierPivot);
+	EXPECT_EQ(a.halfTurns.screen, b.halfTurns.screen);
 	EXPECT_EQ(a.confidence.distinctShare, b.confidence.distinctShare);
 	EXPECT_EQ(a.confidence.fullMargin, b.confidence.fullMargin);
 	EXPECT_EQ(none->limits.maxRivals, bundled->limits.maxRivals);
@@ -234,6 +235,7 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[search]\nlevels = -1\n", "search.levels"},
 		     {"[half_turns]\ncandidates = 5\n", "half_turns.candidates"},
 		     {"[half_turns]\nkeep = 0\n", "half_turns.keep"},
+		     {"[half_turns]\nscreen = 33\n", "half_turns.screen"},
 		     {"[render_mesh]\nmax_error_mm = -1\n", "render_mesh.max_error_mm"},
 		     {"[score]\nresidual_weight = 1.5\n", "score.residual_weight"},
 		     {"[icp]\nfinal_iterations = -1\n", "icp.final_iterations"},

@@ -3,9 +3,13 @@
 // about distinct axes of a hemisphere; a turn keeps the model's centre in
 // place and undoes itself; and on a render of the LM-O can, a pose turned
 // upside down is brought back by one of its two best-scoring half-turns, and
-// one also moved along its axis by the turn about its inliers' centroid.
+// one also moved along its axis by the turn about its inliers' centroid; the
+// screen on the view templates, which renders none of the 64 turns, keeps
+// the one that brings it back among its best 8 and places it as a render's
+// centroid would.
 
 #include <algorithm>
+#include <cstdio>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -18,7 +22,9 @@
 #include "core/geometry/ply_loader.h"
 #include "core/geometry/pose.h"
 #include "core/pose/half_turns.h"
+#include "core/pose/view_search.h"
 #include "core/render/depth_renderer.h"
+#include "core/training/view_template_builder.h"
 #include "tests/common/test_paths.h"
 
 namespace ihf {
@@ -197,6 +203,49 @@ TEST_F(UpsideDownCan, TurnsAboutTheInliersBringBackACanMovedAlongItsAxis)
 	// (the best-scoring turns are not the exact one), which ICP then closes.
 	EXPECT_LT(offInliers, 22.0) << "ICP's reach: max_distance_mm 25";
 	EXPECT_LT(rotInliers, 30 * kDeg);
+}
+
+// The estimator's screen (HalfTurnConfig::screen): each turn of the upside
+// down can placed by its nearest view template's centroid and scored
+// sparsely, without a render. The turn the render-scored search brings back
+// (above) is among the 8 best of the 64, and it lands within ICP's reach.
+TEST_F(UpsideDownCan, TheScreenKeepsTheTurnBackAmongItsBestAndPlacesIt)
+{
+	const double diameter = meshDiameter(mesh);
+	auto points = buildViewTemplatePoints(mesh, diameter, {320, 128});
+	ASSERT_TRUE(points) << points.error().message;
+	ViewTemplates templates{320, 128, *points};
+	const Eigen::Vector3d centre = boundingBox(mesh).centre().cast<double>();
+	const Eigen::Vector3d flipAxis = Eigen::AngleAxisd(10 * kDeg, Eigen::Vector3d::UnitZ()) * Eigen::Vector3d::UnitX();
+	// Moved 30 mm along the can's axis as well: the placement has to undo it.
+	Pose wrong = turnedAbout(truth, Eigen::AngleAxisd(M_PI, flipAxis).toRotationMatrix(), centre);
+	wrong.t += wrong.R * Eigen::Vector3d(0, 0, 30);
+	const ImageView<const float> obs(scene.data(), K.width, K.height, K.width);
+	ViewSearchConfig vc;
+	const int wrongView = nearestView(templates, wrong);
+	ASSERT_GE(wrongView, 0);
+	const Eigen::Vector3d shown = wrong.apply(viewCentroid(templates, wrongView));
+	std::vector<std::pair<float, Pose>> turns;
+	for (int i = 0; i < 64; ++i) {
+		Pose p = turnedAbout(wrong, halfTurn(i, 64), centre);
+		p.t += shown - p.apply(viewCentroid(templates, nearestView(templates, p)));
+		Eigen::Vector3d t;
+		const float s = sparsePoseScore(templates, nearestView(templates, p), vc, obs, K, p, BoxAxes{}, t);
+		p.t = t;
+		turns.emplace_back(s, p);
+	}
+	std::stable_sort(turns.begin(), turns.end(), [](const auto &x, const auto &y) { return x.first > y.first; });
+	double rotErr = M_PI, offMm = 1e9;
+	for (int j = 0; j < 8; ++j)
+		if (rotationAngle(turns[static_cast<size_t>(j)].second.R, truth.R) < rotErr) {
+			rotErr = rotationAngle(turns[static_cast<size_t>(j)].second.R, truth.R);
+			offMm = (turns[static_cast<size_t>(j)].second.t - truth.t).norm();
+		}
+	std::printf("screen: rot %.1f deg, off %.1f mm\n", rotErr / kDeg, offMm);
+	EXPECT_LT(rotErr, 25 * kDeg);
+	EXPECT_LT(offMm, 25.0) << "ICP's reach: max_distance_mm 25";
+	// The best of all is not the wrong pose's own neighbourhood.
+	EXPECT_GT(rotationAngle(turns[0].second.R, wrong.R), 90 * kDeg);
 }
 
 } // namespace

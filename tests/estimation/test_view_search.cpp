@@ -19,6 +19,7 @@
 #include "core/geometry/ply_loader.h"
 #include "core/geometry/pose.h"
 #include "core/geometry/rotation.h"
+#include "core/pose/half_turns.h"
 #include "core/pose/view_search.h"
 #include "core/render/depth_renderer.h"
 #include "core/training/view_template_builder.h"
@@ -546,6 +547,80 @@ TEST_F(ViewSearchTest, TurningClimbBringsRotationsCloserThanTheGrid)
 	RecordProperty("mean_deg_turning", std::to_string(errTurning / both));
 	RecordProperty("mean_deg_sideways", std::to_string(errSideways / both));
 	EXPECT_LT(errTurning, 0.8 * errSideways); // measured 5.7 against 8.7 deg
+}
+
+// A template's own rotation, on its view's ray or off it by the lateral
+// offsets of a crop, is nearest that view; the tabled directions (the
+// model's) pick as the computed ones do.
+TEST_F(ViewSearchTest, NearestViewOfATemplatesRotationIsItsView)
+{
+	ViewTemplates t = templates();
+	EXPECT_EQ(nearestView(ViewTemplates{}, Pose{}), -1);
+	std::vector<Eigen::Vector3f> dirs;
+	for (int v = 0; v < t.viewpoints; ++v)
+		dirs.push_back(fibonacciDirection(v, t.viewpoints).cast<float>());
+	ViewTemplates tabled = t;
+	tabled.directions = dirs;
+	int offRay = 0, checked = 0;
+	for (int v = 0; v < t.viewpoints; v += 29)
+		for (int turn : {0, 5, 17}) {
+			Pose p;
+			p.R = viewRotation(t, 24, v, turn);
+			p.t = Eigen::Vector3d(0, 0, 800);
+			EXPECT_EQ(nearestView(t, p), v) << v << " " << turn;
+			EXPECT_EQ(nearestView(tabled, p), v) << v << " " << turn;
+			// 60 mm aside at 800 mm: the ray turns by ~4 deg, less than
+			// the lattice's spacing (~11 deg), so the view is the same or
+			// a neighbour.
+			p.t = Eigen::Vector3d(60, -40, 800);
+			const int w = nearestView(tabled, p);
+			EXPECT_EQ(w, nearestView(t, p));
+			ASSERT_GE(w, 0);
+			const double apart = std::acos(std::clamp(
+				fibonacciDirection(v, t.viewpoints).dot(fibonacciDirection(w, t.viewpoints)), -1.0, 1.0));
+			EXPECT_LT(apart * 180.0 / M_PI, 15.0) << v;
+			offRay += w != v;
+			++checked;
+		}
+	EXPECT_LT(offRay, checked);
+	Pose behind;
+	behind.t = Eigen::Vector3d(0, 0, -500);
+	EXPECT_EQ(nearestView(tabled, behind), -1);
+}
+
+// The sparse score of any pose (the half-turns' screen): high at the truth
+// of a clean render, where it also finds the depth of a pose 25 mm off; a
+// half-turn of the truth, also on the same spot, scores lower in most views.
+TEST_F(ViewSearchTest, SparsePoseScoreFindsTheDepthAndTellsTheTruthFromItsHalfTurn)
+{
+	std::mt19937_64 rng(11);
+	ViewSearchConfig cfg;
+	const ViewTemplates t = templates();
+	const Eigen::Vector3d centre = boundingBox(*mesh_).centre().cast<double>();
+	int lower = 0;
+	const int trials = 12;
+	for (int i = 0; i < trials; ++i) {
+		const Pose truth = randomPose(rng);
+		const std::vector<float> depth = render(truth);
+		const ImageView<const float> obs(depth.data(), K_.width, K_.height, K_.width);
+		Eigen::Vector3d aligned;
+		const float atTruth = sparsePoseScore(t, nearestView(t, truth), cfg, obs, K_, truth, BoxAxes{}, aligned);
+		EXPECT_GT(atTruth, 0.85f) << i;
+		EXPECT_LT((aligned - truth.t).norm(), 2.0) << i;
+		Pose off = truth;
+		off.t *= 1.0 + 25.0 / truth.t.norm();
+		const float atOff = sparsePoseScore(t, nearestView(t, off), cfg, obs, K_, off, BoxAxes{}, aligned);
+		EXPECT_GT(atOff, 0.8f) << i;
+		EXPECT_LT((aligned - truth.t).norm(), 4.0) << i;
+		// Turned about the camera's x axis through the model's centre.
+		const Eigen::Matrix3d flipModel = truth.R.transpose() * Eigen::Matrix3d(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX())) * truth.R;
+		const Pose turned = turnedAbout(truth, flipModel, centre);
+		const float atTurn = sparsePoseScore(t, nearestView(t, turned), cfg, obs, K_, turned, BoxAxes{}, aligned);
+		lower += atTurn < atTruth - 0.1f;
+	}
+	EXPECT_GE(lower, trials * 3 / 4);
+	Eigen::Vector3d aligned;
+	EXPECT_EQ(sparsePoseScore(t, -1, cfg, ImageView<const float>(), K_, Pose{}, BoxAxes{}, aligned), 0.0f);
 }
 
 TEST_F(ViewSearchTest, OffWithoutTurnsOrTemplates)

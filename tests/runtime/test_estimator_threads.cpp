@@ -3,8 +3,9 @@
 // a box is done, never its pose: the view search, the vote modes and the
 // forest walk give the bits of one thread for any number of threads, also
 // when the vote buffer fills up (the forest walk's shares then overflow and
-// one thread walks again).
+// one thread walks again), and the half-turns' screen does too.
 
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -63,17 +64,20 @@ TEST(EstimatorThreads, PosesDoNotDependOnTheThreadCount)
 				out.push_back(estimator.estimate(frame->view(), test::kKinect, box, *duck.model, cfg));
 		return out;
 	};
-	for (int maxVotes : {144000, 1500}) {
+	// The half-turns rendered (screen 0), then screened on the templates.
+	for (const auto &[maxVotes, screen] : {std::pair{144000, 0}, std::pair{1500, 0}, std::pair{144000, 3}}) {
+		cfg.halfTurns.screen = screen;
 		const std::vector<PoseEstimate> one = estimateAll(1, maxVotes);
 		int found = 0;
 		for (const PoseEstimate &e : one)
 			found += e.found;
-		EXPECT_GE(found, 4) << "max votes " << maxVotes;
+		EXPECT_GE(found, 4) << "max votes " << maxVotes << ", screen " << screen;
 		for (int threads : {2, 3}) {
 			const std::vector<PoseEstimate> many = estimateAll(threads, maxVotes);
 			ASSERT_EQ(many.size(), one.size());
 			for (size_t i = 0; i < one.size(); ++i) {
-				SCOPED_TRACE(testing::Message() << "box " << i << ", " << threads << " threads, max votes " << maxVotes);
+				SCOPED_TRACE(testing::Message() << "box " << i << ", " << threads << " threads, max votes " << maxVotes
+								<< ", screen " << screen);
 				EXPECT_EQ(many[i].found, one[i].found);
 				EXPECT_TRUE(many[i].pose.R == one[i].pose.R);
 				EXPECT_TRUE(many[i].pose.t == one[i].pose.t);
