@@ -379,6 +379,28 @@ int PoseEstimator::keptCentres(double diameter, int max, Eigen::Vector3d *centre
 	return nc;
 }
 
+namespace {
+
+// The view search's settings with the score's weights: its sparse score
+// ranks by the same rule as the full one.
+ViewSearchConfig viewScoring(const EstimatorConfig &config)
+{
+	ViewSearchConfig vc = config.views;
+	vc.outlierWeight = config.score.outlierWeight;
+	vc.occludedWeight = config.score.occludedWeight;
+	vc.residualWeight = config.score.residualWeight;
+	return vc;
+}
+
+} // namespace
+
+// A side on the frame border was clipped: that axis' centre is not the
+// object's, and the model may go on past that side unseen.
+BoxAxes PoseEstimator::boxAxes() const
+{
+	return BoxAxes{!openSides_.left && !openSides_.right, !openSides_.top && !openSides_.bottom, openSides_};
+}
+
 // Verifies every view-template rotation at each of the best distinct
 // translations; the best proposals are scored in full and kept. Runs under
 // the polish's budget check, one translation at a time.
@@ -389,16 +411,11 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	const double diameter = model.params().diameter;
 	Eigen::Vector3d centres[kMaxCentres];
 	const int nc = keptCentres(diameter, std::clamp(config.views.centres, 1, kMaxCentres), centres);
-	ViewSearchConfig vc = config.views; // under a budget: underBudget()'s already
-	vc.outlierWeight = config.score.outlierWeight;
-	vc.occludedWeight = config.score.occludedWeight;
-	vc.residualWeight = config.score.residualWeight;
+	const ViewSearchConfig vc = viewScoring(config); // under a budget: underBudget()'s already
 	ViewProposal top[kMaxKeep];
 	const size_t keepN = static_cast<size_t>(std::clamp(config.views.keep, 1, kMaxKeep));
 	const float same = static_cast<float>(0.05 * diameter);
-	// A side on the frame border was clipped: that axis' centre is not the
-	// object's, and the model may go on past that side unseen.
-	const BoxAxes axes{!openSides_.left && !openSides_.right, !openSides_.top && !openSides_.bottom, openSides_};
+	const BoxAxes axes = boxAxes();
 	// One search (anchored in depth when anchor > 0); its proposals are
 	// scored in full, reported under `stage` and kept.
 	auto searchAt = [&](const Eigen::Vector3d &centre, float anchor, const char *stage) {
@@ -685,19 +702,7 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 				if (turns[k].valid)
 					insertTop(turns[k], top, nt, keepN);
 		}
-		// The kept turns' polishes side by side when there are threads.
-		Hypothesis polishedTurns[kMaxKeep];
-		if (config.icp)
-			workers_.run(nt, [&](int j, int slot) {
-				polishedTurns[j] = polishOn(top[j], K, model, config, Stage::kHalfTurns, slot, config.icpConfig);
-			});
-		for (int j = 0; j < nt; ++j) {
-			const Hypothesis &p = polishedTurns[j];
-			const Hypothesis &r = p.valid ? p : top[j];
-			report(r.iteration, "half_turn", c * keepN + j, r.pose, r.score, 0);
-			if (r.score.score > found.score.score)
-				found = r;
-		}
+		polishTurns(std::span<const Hypothesis>(top, static_cast<size_t>(nt)), K, model, config, c * keepN, found);
 		costs_.observe(Stage::kHalfTurns, timer_.lap(Stage::kHalfTurns) - start, boxWork_);
 	}
 	return found;
@@ -714,11 +719,8 @@ void PoseEstimator::screenHalfTurns(const CameraIntrinsics &K, const ObjectModel
 	constexpr int kMaxScreen = 32, kMaxKeep = 4;
 	const HalfTurnConfig &cfg = config.halfTurns;
 	const ViewTemplates &templates = model.viewTemplates();
-	ViewSearchConfig vc = config.views;
-	vc.outlierWeight = config.score.outlierWeight;
-	vc.occludedWeight = config.score.occludedWeight;
-	vc.residualWeight = config.score.residualWeight;
-	const BoxAxes axes{!openSides_.left && !openSides_.right, !openSides_.top && !openSides_.bottom, openSides_};
+	const ViewSearchConfig vc = viewScoring(config);
+	const BoxAxes axes = boxAxes();
 	// Where the source shows its surface, by the same rule as the turns'.
 	const int sourceView = nearestView(templates, source.pose);
 	if (sourceView < 0)
@@ -770,14 +772,25 @@ void PoseEstimator::screenHalfTurns(const CameraIntrinsics &K, const ObjectModel
 	for (int k = 0; k < ns; ++k)
 		if (turns[k].valid)
 			insertTop(turns[k], top, nt, keepN);
-	Hypothesis polishedTurns[kMaxKeep];
+	polishTurns(std::span<const Hypothesis>(top, static_cast<size_t>(nt)), K, model, config, rankBase, found);
+}
+
+// The kept turns' polishes, side by side when there are threads, each
+// reported (ranks from rankBase); found takes any better one.
+void PoseEstimator::polishTurns(std::span<const Hypothesis> top, const CameraIntrinsics &K, const ObjectModel &model,
+				const EstimatorConfig &config, int rankBase, Hypothesis &found)
+{
+	constexpr int kMaxKeep = 4;
+	const int nt = std::min(static_cast<int>(top.size()), kMaxKeep);
+	Hypothesis polished[kMaxKeep];
 	if (config.icp)
 		workers_.run(nt, [&](int j, int slot) {
-			polishedTurns[j] = polishOn(top[j], K, model, config, Stage::kHalfTurns, slot, config.icpConfig);
+			polished[j] = polishOn(top[static_cast<size_t>(j)], K, model, config, Stage::kHalfTurns, slot,
+					       config.icpConfig);
 		});
 	for (int j = 0; j < nt; ++j) {
-		const Hypothesis &p = polishedTurns[j];
-		const Hypothesis &r = p.valid ? p : top[j];
+		const Hypothesis &p = polished[j];
+		const Hypothesis &r = p.valid ? p : top[static_cast<size_t>(j)];
 		report(r.iteration, "half_turn", rankBase + j, r.pose, r.score, 0);
 		if (r.score.score > found.score.score)
 			found = r;

@@ -402,11 +402,16 @@ private:
 	Hypothesis searchHalfTurns(const CameraIntrinsics &K, const ObjectModel &model,
 				   const EstimatorConfig &config, std::span<const Hypothesis> polished,
 				   const Hypothesis &best, const Eigen::Vector3d &centre);
+	// What the window's box says about the object's place (view_search.h).
+	BoxAxes boxAxes() const;
 	// One source's turns when HalfTurnConfig::screen is set: placed and
 	// screened on the view templates, only the best few rendered.
 	void screenHalfTurns(const CameraIntrinsics &K, const ObjectModel &model, const EstimatorConfig &config,
 			     const Hypothesis &source, const Eigen::Vector3d &centre, int keepN, int rankBase,
 			     Hypothesis &found);
+	// The kept turns polished, reported; found takes any better one.
+	void polishTurns(std::span<const Hypothesis> top, const CameraIntrinsics &K, const ObjectModel &model,
+			 const EstimatorConfig &config, int rankBase, Hypothesis &found);
 	// The pose rendered with the model's render mesh into renderView_ (cleared
 	// first); false if the render failed.
 	// slot: the renderer and render buffer of one pool thread (0: the
