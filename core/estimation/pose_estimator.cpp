@@ -622,7 +622,7 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 							 std::span<const Hypothesis> polished,
 							 const Hypothesis &best, const Eigen::Vector3d &centre)
 {
-	constexpr int kMaxSources = 4, kMaxKeep = 4;
+	constexpr int kMaxSources = 4, kMaxKeep = kMaxHalfTurnKeep;
 	constexpr double kSameRotation = 20.0 * M_PI / 180.0;
 	const HalfTurnConfig &cfg = config.halfTurns;
 	const double diameter = model.params().diameter;
@@ -716,7 +716,7 @@ void PoseEstimator::screenHalfTurns(const CameraIntrinsics &K, const ObjectModel
 				    const EstimatorConfig &config, const Hypothesis &source,
 				    const Eigen::Vector3d &centre, int keepN, int rankBase, Hypothesis &found)
 {
-	constexpr int kMaxScreen = 32, kMaxKeep = 4;
+	constexpr int kMaxScreen = kMaxHalfTurnScreen, kMaxKeep = kMaxHalfTurnKeep;
 	const HalfTurnConfig &cfg = config.halfTurns;
 	const ViewTemplates &templates = model.viewTemplates();
 	const ViewSearchConfig vc = viewScoring(config);
@@ -780,9 +780,8 @@ void PoseEstimator::screenHalfTurns(const CameraIntrinsics &K, const ObjectModel
 void PoseEstimator::polishTurns(std::span<const Hypothesis> top, const CameraIntrinsics &K, const ObjectModel &model,
 				const EstimatorConfig &config, int rankBase, Hypothesis &found)
 {
-	constexpr int kMaxKeep = 4;
-	const int nt = std::min(static_cast<int>(top.size()), kMaxKeep);
-	Hypothesis polished[kMaxKeep];
+	const int nt = std::min(static_cast<int>(top.size()), kMaxHalfTurnKeep);
+	Hypothesis polished[kMaxHalfTurnKeep];
 	if (config.icp)
 		workers_.run(nt, [&](int j, int slot) {
 			polished[j] = polishOn(top[static_cast<size_t>(j)], K, model, config, Stage::kHalfTurns, slot,

@@ -18,10 +18,14 @@
 
 namespace ihf {
 
+// Bounds of HalfTurnConfig: turns polished per candidate, turns screened.
+inline constexpr int kMaxHalfTurnKeep = 4;
+inline constexpr int kMaxHalfTurnScreen = 32;
+
 struct HalfTurnConfig {
 	int candidates = 2; // distinct best polished hypotheses turned; 0: off
 	int axes = 64;      // half-turn axes over the hemisphere
-	int keep = 2;       // best-scoring turns per candidate that get an ICP polish
+	int keep = 2;       // best-scoring turns per candidate that get an ICP polish (<= kMaxHalfTurnKeep)
 	bool align = true;  // move each turn so the surface it shows sits where the candidate's did
 	// Also turn about the centroid of the candidate's inliers (the model
 	// surface that agrees with the scene): the part of a wrong pose that
@@ -35,7 +39,8 @@ struct HalfTurnConfig {
 	// sparsePoseScore), and only the `screen` best are rendered and scored
 	// in full; a render of every turn was most of a half-turn search's
 	// time. 0: every turn rendered (placed by the centroid of its render),
-	// as also without templates or with inlierPivot.
+	// as also without templates or with inlierPivot. At most
+	// kMaxHalfTurnScreen.
 	int screen = 8;
 };
 
