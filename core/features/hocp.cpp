@@ -39,11 +39,19 @@ float binValue(float weight, HocpWeighting w)
 	return w == HocpWeighting::kAbsWeight ? std::abs(weight) : 1.0f;
 }
 
+// The sum of squares in four lanes combined in one fixed order (a single
+// running sum is one dependent add per bin). With count weighting every
+// term is a whole number and the sum exact in any order.
 void normalise(std::span<float> out)
 {
-	double s = 0.0;
-	for (float v : out)
-		s += static_cast<double>(v) * v;
+	double lane[4] = {};
+	size_t i = 0;
+	for (; i + 4 <= out.size(); i += 4)
+		for (size_t l = 0; l < 4; ++l)
+			lane[l] += static_cast<double>(out[i + l]) * out[i + l];
+	double s = (lane[0] + lane[2]) + (lane[1] + lane[3]);
+	for (; i < out.size(); ++i)
+		s += static_cast<double>(out[i]) * out[i];
 	if (s <= 0.0)
 		return;
 	const float inv = static_cast<float>(1.0 / std::sqrt(s));

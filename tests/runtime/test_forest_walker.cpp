@@ -3,6 +3,8 @@
 // node keeps the same control points: the votes must be exactly those of
 // recomputing it at every node, whatever the number of histograms kept.
 
+#include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -45,6 +47,43 @@ TEST(ForestWalker, ReusedHistogramsCastTheVeryVotesOfRecomputedOnes)
 			ASSERT_EQ(a[i].centre, b[i].centre) << i << ", " << slots << " slots";
 			ASSERT_EQ(a[i].rotation.coeffs(), b[i].rotation.coeffs()) << i << ", " << slots << " slots";
 			ASSERT_EQ(a[i].weight, b[i].weight) << i << ", " << slots << " slots";
+		}
+	}
+}
+
+// The distance is summed in lanes (so that it vectorises); it must still be
+// the L2 distance: checked against a double-precision sum for both
+// encodings and for lengths that leave a tail past the lanes.
+TEST(ForestWalker, TemplateDistanceIsTheL2DistanceForEveryLengthAndEncoding)
+{
+	for (int dims : {1, 7, 8, 13, 64, 256, 259}) {
+		std::vector<float> hist(static_cast<size_t>(dims)), floats(static_cast<size_t>(2 * dims));
+		std::vector<uint8_t> bytes(static_cast<size_t>(2 * dims));
+		for (int i = 0; i < 2 * dims; ++i) {
+			bytes[static_cast<size_t>(i)] = static_cast<uint8_t>((i * 37 + 11) % 256);
+			floats[static_cast<size_t>(i)] = static_cast<float>(bytes[static_cast<size_t>(i)]) / 255.0f;
+		}
+		for (int i = 0; i < dims; ++i)
+			hist[static_cast<size_t>(i)] = static_cast<float>((i * 53 + 5) % 97) / 97.0f;
+		for (TemplateEncoding encoding : {TemplateEncoding::kFloat32, TemplateEncoding::kUint8}) {
+			TreeView tree;
+			tree.templates = encoding == TemplateEncoding::kFloat32 ? static_cast<const void *>(floats.data())
+										  : static_cast<const void *>(bytes.data());
+			ForestView forest;
+			forest.dims = dims;
+			forest.encoding = encoding;
+			forest.trees = std::span<const TreeView>(&tree, 1);
+			for (uint32_t index : {0u, 1u}) {
+				double ref = 0;
+				for (int i = 0; i < dims; ++i) {
+					const double e = hist[static_cast<size_t>(i)] -
+							 floats[static_cast<size_t>(index * dims + i)];
+					ref += e * e;
+				}
+				const float d = templateDistance(forest, tree, index, hist);
+				EXPECT_NEAR(d, std::sqrt(ref), 1e-5 * std::sqrt(ref) + 1e-7)
+					<< dims << " dims, template " << index;
+			}
 		}
 	}
 }
