@@ -609,5 +609,57 @@ TEST(DepthRenderer, CullingAClosedMeshsBackFacesKeepsItsDepth)
 	}
 }
 
+// Drawing a mesh is drawing its faces in order, each depth-tested against
+// what is there: a mesh of over a thousand faces (a sphere near and far, so
+// that many faces are sub-pixel, and a floor through the near plane, which
+// needs clipping), rendered into a window, gives exactly what drawing its
+// faces one call at a time gives, with culling on and off, and the same
+// counts. A guard for any reordering or batching of the faces.
+TEST(DepthRenderer, OneCallEqualsItsFacesDrawnOneByOne)
+{
+	const CameraIntrinsics K = lmoCamera();
+	Mesh mesh = test::icosphere(60, 3); // 1,280 faces
+	const Mesh floor = test::quad({-3000, 100, -1000}, {3000, 100, -1000}, {3000, 100, 3000}, {-3000, 100, 3000});
+	const auto base = static_cast<uint32_t>(mesh.vertices.size());
+	for (const auto &v : floor.vertices)
+		mesh.vertices.push_back(v);
+	// The floor's faces among the sphere's.
+	mesh.faces.insert(mesh.faces.begin() + 300, {floor.faces[0][0] + base, floor.faces[0][1] + base,
+						      floor.faces[0][2] + base});
+	mesh.faces.push_back({floor.faces[1][0] + base, floor.faces[1][1] + base, floor.faces[1][2] + base});
+	const RenderWindow window{300, 150}; // cuts the near sphere
+	for (const double z : {500.0, 4000.0}) {
+		for (const bool cull : {false, true}) {
+			SCOPED_TRACE(testing::Message() << "z " << z << ", cull " << cull);
+			const Pose pose = makePose({0.2, 1, 0.1}, 25, {-10, 5, z});
+			DepthRenderer r(mesh.vertices.size());
+			r.setCullBackFaces(cull);
+			DepthImageMm whole(240, 180), single(240, 180);
+			Image<uint16_t> wholeLabel(240, 180), singleLabel(240, 180);
+			auto all = r.render(mesh, pose, K, whole.view(), wholeLabel.view(), 7, window);
+			ASSERT_TRUE(all.ok());
+			Mesh one;
+			one.vertices = mesh.vertices;
+			one.faces.resize(1);
+			RenderStats sum;
+			for (const auto &f : mesh.faces) {
+				one.faces[0] = f;
+				auto s = r.render(one, pose, K, single.view(), singleLabel.view(), 7, window);
+				ASSERT_TRUE(s.ok());
+				sum.trianglesDrawn += s->trianglesDrawn;
+				sum.trianglesCulled += s->trianglesCulled;
+				sum.pixelsWritten += s->pixelsWritten;
+			}
+			EXPECT_EQ(all->trianglesDrawn, sum.trianglesDrawn);
+			EXPECT_EQ(all->trianglesCulled, sum.trianglesCulled);
+			EXPECT_EQ(all->pixelsWritten, sum.pixelsWritten);
+			EXPECT_GT(all->trianglesDrawn, 100);
+			EXPECT_GT(all->trianglesCulled, 100);
+			EXPECT_EQ(0, std::memcmp(whole.data(), single.data(), whole.pixels().size_bytes()));
+			EXPECT_EQ(0, std::memcmp(wholeLabel.data(), singleLabel.data(), wholeLabel.pixels().size_bytes()));
+		}
+	}
+}
+
 } // namespace
 } // namespace ihf
