@@ -83,13 +83,16 @@ struct ViewSearchConfig {
 	// pose. 0: sideways only.
 	float rotationStepDeg = 8.0f;
 	int refineTop = 64; // at most kMaxRefineTop
-	// Under a frame budget (the device) the cheaper climb: time the turns
-	// take buys more as a further centre searched (BENCHMARKS.md, session 12).
-	float budgetRotationStepDeg = 0.0f;
+	// Under a frame budget (the device) the cheaper climb: fewer climbers
+	// (the turns were off until session 29: on session 12's machine their
+	// time bought more as a further centre; on session 29's they win at
+	// 10 to 33 ms, BENCHMARKS.md).
+	float budgetRotationStepDeg = 8.0f;
 	int budgetRefineTop = 24;
 	// and a cheaper coarse pass, so that the search fits a frame at all
-	// (the templates' viewpoints are fewer too: ViewTemplateConfig).
-	int budgetCoarsePoints = 16;
+	// (the templates' viewpoints are fewer too: ViewTemplateConfig). 16
+	// coarse points until session 29.
+	int budgetCoarsePoints = 32;
 	int budgetCoarseKeep = 256;
 	// and at most this many depth centres (2 until session 23: a third
 	// search left no time for the ICP polish until the search was made
