@@ -47,10 +47,11 @@ void printEstimateStats(std::FILE *out, const EstimateRunSummary &sum)
 			     c.calls ? ms(c.totalNs) / static_cast<double>(c.calls) : 0.0, ms(c.maxNs),
 			     total > 0 ? 100.0 * static_cast<double>(c.totalNs) / static_cast<double>(total) : 0.0);
 	}
-	char profiles[64] = "";
+	char profiles[112] = "";
 	if (sum.frameBudgetMs > 0) {
-		std::snprintf(profiles, sizeof(profiles), " (%llu tight, %llu short)", static_cast<unsigned long long>(s.tightBoxes),
-			      static_cast<unsigned long long>(s.shortBoxes));
+		std::snprintf(profiles, sizeof(profiles), " (%llu tight, %llu short, %llu lean search)",
+			      static_cast<unsigned long long>(s.tightBoxes), static_cast<unsigned long long>(s.shortBoxes),
+			      static_cast<unsigned long long>(s.leanSearchBoxes));
 		std::fprintf(out, "ihf estimate: budget %g ms per frame: ", sum.frameBudgetMs);
 	} else {
 		std::fprintf(out, "ihf estimate: no frame budget: ");
@@ -99,6 +100,7 @@ std::string estimateStatsJson(const EstimateRunSummary &sum)
 		       {"boxes", s.boxes},
 		       {"tight_boxes", s.tightBoxes},
 		       {"short_boxes", s.shortBoxes},
+		       {"lean_search_boxes", s.leanSearchBoxes},
 		       {"refinement_iterations", s.iterations},
 		       {"budget_stops", s.budgetStops},
 		       {"icp_skipped", s.icpSkipped},

@@ -366,6 +366,9 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	views.get("budget_polish_rounds", e.views.budgetPolishRounds);
 	views.get("depth_first", e.views.depthFirst);
 	views.get("budget_depth_first", e.views.budgetDepthFirst);
+	views.get("lean_search_below", e.views.leanSearchBelow);
+	views.get("lean_rotation_step_deg", e.views.leanRotationStepDeg);
+	views.get("lean_coarse_points", e.views.leanCoarsePoints);
 	views.get("keep", e.views.keep);
 	views.get("inlier_mm", e.views.inlierMm);
 	views.get("max_shift_mm", e.views.maxShiftMm);
@@ -491,6 +494,12 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 				  "view_search.budget_coarse_keep"),
 			  inRange(e.views.budgetDepthCentres >= 0 && e.views.budgetDepthCentres <= 4,
 				  "view_search.budget_depth_centres"),
+			  inRange(e.views.leanSearchBelow >= 0 && e.views.leanSearchBelow <= 1000,
+				  "view_search.lean_search_below"),
+			  inRange(e.views.leanRotationStepDeg >= 0 && e.views.leanRotationStepDeg <= 45,
+				  "view_search.lean_rotation_step_deg"),
+			  inRange(e.views.leanCoarsePoints >= 0 && e.views.leanCoarsePoints <= kMaxViewPoints,
+				  "view_search.lean_coarse_points"),
 			  inRange(s.viewTemplates.viewpoints >= 1 && s.viewTemplates.viewpoints <= 100000, "view_search.viewpoints"),
 			  inRange(s.viewTemplates.budgetViewpoints >= 1 && s.viewTemplates.budgetViewpoints <= 100000,
 				  "view_search.budget_viewpoints"),

@@ -134,7 +134,7 @@ void PoseStage::describe(std::string &line) const
 		const EstimatorStats st = estimator_.stats();
 		std::snprintf(buf, sizeof(buf),
 			      "; budget %g ms: overruns %llu frames %llu boxes (%llu in the initial registration)"
-			      " cut-short %llu iterations %llu tight %llu short %llu worst-frame %.1f ms",
+			      " cut-short %llu iterations %llu tight %llu short %llu lean-search %llu worst-frame %.1f ms",
 			      static_cast<double>(config_.frameBudgetMs),
 			      static_cast<unsigned long long>(st.frameOverruns),
 			      static_cast<unsigned long long>(st.boxOverruns),
@@ -142,7 +142,8 @@ void PoseStage::describe(std::string &line) const
 			      static_cast<unsigned long long>(st.budgetStops),
 			      static_cast<unsigned long long>(st.iterations),
 			      static_cast<unsigned long long>(st.tightBoxes),
-			      static_cast<unsigned long long>(st.shortBoxes), st.worstFrameNs * 1e-6);
+			      static_cast<unsigned long long>(st.shortBoxes),
+			      static_cast<unsigned long long>(st.leanSearchBoxes), st.worstFrameNs * 1e-6);
 		line += buf;
 	}
 	const size_t n = std::min(latencyCount_, latencies_.size());

@@ -40,6 +40,8 @@ struct EstimatorStats {
 	                                  // registration (EstimatorConfig::budgetTightMs)
 	uint64_t shortBoxes = 0;          // boxes polished with the short share's ICP
 	                                  // rounds (EstimatorConfig::budgetShortMs)
+	uint64_t leanSearchBoxes = 0;     // boxes whose share held too few view searches
+	                                  // (ViewSearchConfig::leanSearchBelow)
 	int64_t worstFrameNs = 0;
 
 	size_t arenaCapacity = 0;

@@ -238,6 +238,7 @@ EstimatorStats PoseEstimator::stats() const
 	s.registrationOverruns = registrationOverruns_;
 	s.tightBoxes = tightBoxes_;
 	s.shortBoxes = shortBoxes_;
+	s.leanSearchBoxes = leanSearchBoxes_;
 	s.frameOverruns = budget_.frameOverruns();
 	s.boxOverruns = budget_.boxOverruns();
 	s.worstFrameNs = budget_.worstFrameNs();
@@ -437,7 +438,7 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 			report(h.iteration, stage, static_cast<int>(j), h.pose, h.score, top[j].score);
 			keep(h, same);
 		}
-		costs_.observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
+		(leanSearch_ ? leanCosts_ : costs_).observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
 	};
 	// Under a budget every search but the first leaves room for the polish
 	// after it (unbudgeted, everything fits). A box with no room for even
@@ -447,13 +448,14 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	int searched = 0;
 	auto searchFits = [&]() {
 		const bool first = searched++ == 0;
-		int64_t predicted = costs_.bound(Stage::kViews, config.budgetMargin);
+		StageCostModel &searchCosts = leanSearch_ ? leanCosts_ : costs_;
+		int64_t predicted = searchCosts.bound(Stage::kViews, config.budgetMargin);
 		if (!first && config.icp)
 			predicted += config.views.budgetPolishRounds *
 				     costs_.bound(Stage::kIcp, config.budgetMargin, boxWork_);
 		const bool fits = boxFits(predicted);
 		if (!fits && first)
-			costs_.refused(Stage::kViews);
+			searchCosts.refused(Stage::kViews);
 		return fits;
 	};
 	// Centres from the box and the depth alone: on the box's ray (the
@@ -1147,7 +1149,8 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 
 	timer_.reset();
 	budget_ = FrameBudget{};
-	iterationsRun_ = budgetStops_ = icpSkipped_ = registrationOverruns_ = tightBoxes_ = shortBoxes_ = 0;
+	iterationsRun_ = budgetStops_ = icpSkipped_ = registrationOverruns_ = tightBoxes_ = shortBoxes_ =
+		leanSearchBoxes_ = 0;
 	peaks_ = {};
 	if (!e.found)
 		return makeError(Errc::kNoPose, std::string("warm-up box gave no pose: ") + e.reason);
@@ -1233,12 +1236,26 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	PoseEstimate out;
 	BoxScope scope(*this, requested);
 	EstimatorConfig budgeted;
+	leanSearch_ = false;
 	if (!budget_.unlimited()) {
-		const ShareSettings share =
-			underShare(requested, static_cast<double>(budget_.boxDeadline() - boxStartNs_) * 1e-6);
+		const double shareMs = static_cast<double>(budget_.boxDeadline() - boxStartNs_) * 1e-6;
+		const ShareSettings share = underShare(requested, shareMs);
 		budgeted = share.config;
 		tightBoxes_ += share.tight;
 		shortBoxes_ += share.shortRounds;
+		// In the budget's searches as this machine has run them (none yet,
+		// as in the warm-up: the budget's search).
+		const double searchMs = static_cast<double>(costs_.average(Stage::kViews)) * 1e-6;
+		leanSearch_ = shareMs < static_cast<double>(requested.views.leanSearchBelow) * searchMs;
+		if (leanSearch_) {
+			budgeted.views = underLeanBudget(requested.views);
+			// The budget's search is not measured in a lean box: its
+			// cost eases as a refused stage's does, so that one cost
+			// measured too high (the warm-up's large box) does not
+			// keep every later box lean.
+			costs_.refused(Stage::kViews);
+		}
+		leanSearchBoxes_ += leanSearch_;
 	}
 	const EstimatorConfig &config = budget_.unlimited() ? requested : budgeted;
 	if (!valid_) {

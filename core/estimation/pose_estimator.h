@@ -494,13 +494,17 @@ private:
 	SteadyClock steadyClock_;
 	StageTimer timer_;
 	StageCostModel costs_;
+	// The lean searches of short shares, measured apart: costs_ keeps the
+	// budget's own search, the unit a share is counted in.
+	StageCostModel leanCosts_;
+	bool leanSearch_ = false; // the current box searches with the lean settings
 	// The box's valid depth pixels: the polish and the half-turns (renders,
 	// ICP on the crop) cost in proportion, so their predictions scale with
 	// it; the warm-up's box is the largest one.
 	double boxWork_ = 1.0;
 	FrameBudget budget_;
 	uint64_t iterationsRun_ = 0, budgetStops_ = 0, icpSkipped_ = 0, registrationOverruns_ = 0, tightBoxes_ = 0,
-		 shortBoxes_ = 0;
+		 shortBoxes_ = 0, leanSearchBoxes_ = 0;
 	// The current box's start and its initial registration's length (box
 	// start to the end of the k = 0 pass), as the budget sees them.
 	int64_t boxStartNs_ = 0, registrationNs_ = 0;

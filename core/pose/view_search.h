@@ -113,6 +113,16 @@ struct ViewSearchConfig {
 	// centre is searched; the order only ranks equal proposals.
 	bool depthFirst = false;
 	bool budgetDepthFirst = true;
+	// A box whose share of its frame is shorter than leanSearchBelow of
+	// the budget's searches, as measured so far, searches with the lean
+	// settings below (0: never): with a few milliseconds a box (several
+	// boxes to a frame) the budget's search leaves no time for the polish,
+	// or does not fit at all (BENCHMARKS.md, session 29). Counted in
+	// searches, not milliseconds, so that a slower machine turns lean
+	// at a longer share.
+	float leanSearchBelow = 2.5f;
+	float leanRotationStepDeg = 0.0f;
+	int leanCoarsePoints = 16;
 };
 
 // The settings a search inside a frame budget runs with.
@@ -126,6 +136,16 @@ inline ViewSearchConfig underBudget(ViewSearchConfig c)
 	c.depthCentreWidth = c.budgetDepthCentreWidth;
 	c.depthFirst = c.budgetDepthFirst;
 	return c;
+}
+
+// The settings of a budget's search in a share of few searches
+// (leanSearchBelow).
+inline ViewSearchConfig underLeanBudget(const ViewSearchConfig &c)
+{
+	ViewSearchConfig r = underBudget(c);
+	r.rotationStepDeg = c.leanRotationStepDeg;
+	r.coarsePoints = c.leanCoarsePoints;
+	return r;
 }
 
 // What the window (the given box) says about the object's place: which

@@ -183,6 +183,9 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.views.budgetDepthCentres, b.views.budgetDepthCentres);
 	EXPECT_EQ(a.views.budgetDepthCentreWidth, b.views.budgetDepthCentreWidth);
 	EXPECT_EQ(a.views.budgetPolishRounds, b.views.budgetPolishRounds);
+	EXPECT_EQ(a.views.leanSearchBelow, b.views.leanSearchBelow);
+	EXPECT_EQ(a.views.leanRotationStepDeg, b.views.leanRotationStepDeg);
+	EXPECT_EQ(a.views.leanCoarsePoints, b.views.leanCoarsePoints);
 	EXPECT_EQ(a.views.maxShiftMm, b.views.maxShiftMm);
 	EXPECT_EQ(a.views.inlierMm, b.views.inlierMm);
 	EXPECT_EQ(a.views.keep, b.views.keep);
@@ -227,6 +230,9 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\nbudget_depth_centre_width = 11\n", "view_search.budget_depth_centre_width"},
 		     {"[view_search]\nbudget_polish_rounds = -1\n", "view_search.budget_polish_rounds"},
 		     {"[view_search]\nbudget_viewpoints = 0\n", "view_search.budget_viewpoints"},
+		     {"[view_search]\nlean_search_below = -1\n", "view_search.lean_search_below"},
+		     {"[view_search]\nlean_rotation_step_deg = 46\n", "view_search.lean_rotation_step_deg"},
+		     {"[view_search]\nlean_coarse_points = 300\n", "view_search.lean_coarse_points"},
 		     {"[budget]\nmax_iterations = -2\n", "budget.max_iterations"},
 		     {"[budget]\nmax_depth_windows = -2\n", "budget.max_depth_windows"},
 		     {"[budget]\ntarget_parts = -1\n", "budget.target_parts"},

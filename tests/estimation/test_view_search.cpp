@@ -724,6 +724,17 @@ TEST(ViewSearch, UnderBudgetTakesTheBudgetClimbAndCoarsePass)
 	EXPECT_EQ(b.lateralStepMm, 3.0f);
 	EXPECT_EQ(b.keep, c.keep);
 	EXPECT_EQ(b.inplane, c.inplane);
+	// A share of few searches: the lean climb and coarse pass, the rest the
+	// budget's.
+	c.leanRotationStepDeg = 0.0f;
+	c.leanCoarsePoints = 8;
+	const ihf::ViewSearchConfig l = ihf::underLeanBudget(c);
+	EXPECT_EQ(l.rotationStepDeg, 0.0f);
+	EXPECT_EQ(l.coarsePoints, 8);
+	EXPECT_EQ(l.refineTop, 24);
+	EXPECT_EQ(l.coarseKeep, 100);
+	EXPECT_EQ(l.depthCentres, 2);
+	EXPECT_TRUE(l.depthFirst);
 	c.refineTop = 10; // never more climbers or centres than unbudgeted
 	EXPECT_EQ(ihf::underBudget(c).refineTop, 10);
 	c.depthCentres = 1;

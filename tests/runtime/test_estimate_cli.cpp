@@ -73,6 +73,7 @@ TEST_F(EstimateCli, ReportsStagesBudgetAndArena)
 	EXPECT_EQ(j["budget"]["frames"], 1);
 	EXPECT_EQ(j["budget"]["tight_boxes"], 0); // no budget
 	EXPECT_EQ(j["budget"]["short_boxes"], 0);
+	EXPECT_EQ(j["budget"]["lean_search_boxes"], 0);
 	EXPECT_EQ(j["budget"]["refinement_iterations"], 2);
 	EXPECT_EQ(j["stages"]["ibs_fit"]["calls"], 4);   // 2 boxes x (k = 0, 1)
 	// and one for each ICP: the polish's and the two best half-turns'
@@ -150,7 +151,7 @@ TEST_F(EstimateCli, BudgetFromTheConfiguration)
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	// Far too little time: both boxes keep their initial registration, which
 	// alone overran; the warm-up said so before the first frame.
-	EXPECT_NE(r.output.find("budget 0.01 ms per frame: 1 frames, 2 boxes (2 tight, 2 short), 0 refinement iterations, 2 boxes cut short, "
+	EXPECT_NE(r.output.find("budget 0.01 ms per frame: 1 frames, 2 boxes (2 tight, 2 short, 2 lean search), 0 refinement iterations, 2 boxes cut short, "
 				"2 ICP skipped, 1 frame overruns, 2 box overruns (2 already in the initial registration)"),
 		  std::string::npos)
 		<< r.output;

@@ -60,6 +60,7 @@ protected:
 		c.budgetWindowPixels = 0;
 		c.budgetMargin = 0; // predictions are the averages
 		c.budgetTightMs = 0; // no leaner registration in short frames
+		c.views.leanSearchBelow = 0; // nor a leaner view search
 		// The step clock's costs do not grow with the box: predictions
 		// as measured.
 		c.budgetScaleByBox = false;
@@ -758,6 +759,61 @@ TEST_F(EstimatorBudget, ARegistrationLongerThanTheFrameIsCountedApart)
 // A box whose share of the frame is shorter than budgetTightMs votes with
 // the tight profile's fewer parts; a longer share, or a frame of boxes
 // whose shares are long enough, with the budget's.
+// A box whose share holds fewer than leanSearchBelow of the budget's view
+// searches, as measured so far, searches with the lean settings; until a
+// search has been measured, and with the bound off, never.
+TEST_F(EstimatorBudget, AShareOfFewSearchesSearchesLean)
+{
+	ObjectModel &model = *model_->model;
+	const WithViewTemplates views(model);
+	ASSERT_FALSE(model.viewTemplates().empty());
+	EstimatorConfig c = config(0, 0.0f);
+	c.views.inplane = 6;
+	c.views.leanSearchBelow = 3.0f;
+	test::StepClock clock(kMs);
+	PoseEstimator e({}, &clock);
+	auto runIn = [&](float budgetMs) {
+		e.beginFrame(1, budgetMs);
+		const PoseEstimate r = run(e, c);
+		e.endFrame();
+		return r;
+	};
+	auto searches = [&] { return e.stats().stages[static_cast<int>(Stage::kViews)]; };
+	// Nothing measured yet: even a share shorter than any search is not
+	// counted in searches.
+	runIn(2.0f);
+	EXPECT_EQ(e.stats().leanSearchBoxes, 0u);
+	// A long share: the budget's searches run and are measured.
+	ASSERT_TRUE(runIn(1e5f).found);
+	EXPECT_EQ(e.stats().leanSearchBoxes, 0u);
+	const StageCounter measured = searches();
+	ASSERT_GT(measured.calls, 0u);
+	const float searchMs = static_cast<float>(measured.totalNs / measured.calls) / kMs;
+	ASSERT_GT(searchMs, 1.0f);
+	// A share of one search: lean; of ten: the budget's own.
+	runIn(searchMs);
+	EXPECT_EQ(e.stats().leanSearchBoxes, 1u);
+	runIn(10 * searchMs);
+	EXPECT_EQ(e.stats().leanSearchBoxes, 1u);
+	// Lean boxes do not measure the budget's search: its cost eases, and
+	// in a share of two searches a box now and then runs it again (else a
+	// cost measured too high once would keep every later box lean).
+	uint64_t lean = e.stats().leanSearchBoxes;
+	runIn(2 * searchMs);
+	EXPECT_EQ(e.stats().leanSearchBoxes, ++lean);
+	int budgetSearches = 0;
+	for (int box = 0; box < 40; ++box) {
+		runIn(2 * searchMs);
+		budgetSearches += e.stats().leanSearchBoxes == lean;
+		lean = e.stats().leanSearchBoxes;
+	}
+	EXPECT_GT(budgetSearches, 0);
+	EXPECT_LT(budgetSearches, 20);
+	c.views.leanSearchBelow = 0; // off
+	runIn(searchMs);
+	EXPECT_EQ(e.stats().leanSearchBoxes, lean);
+}
+
 TEST_F(EstimatorBudget, AShortShareRunsTheLeanerRegistration)
 {
 	EstimatorConfig c = tightParts(config(0, 0.0f), 300.0f);
