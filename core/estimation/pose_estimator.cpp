@@ -417,6 +417,8 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	const size_t keepN = static_cast<size_t>(std::clamp(config.views.keep, 1, kMaxKeep));
 	const float same = static_cast<float>(0.05 * diameter);
 	const BoxAxes axes = boxAxes();
+	// A lean box's searches are measured apart (leanCosts_).
+	StageCostModel &searchCosts = leanSearch_ ? leanCosts_ : costs_;
 	// One search (anchored in depth when anchor > 0); its proposals are
 	// scored in full, reported under `stage` and kept.
 	auto searchAt = [&](const Eigen::Vector3d &centre, float anchor, const char *stage) {
@@ -438,7 +440,7 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 			report(h.iteration, stage, static_cast<int>(j), h.pose, h.score, top[j].score);
 			keep(h, same);
 		}
-		(leanSearch_ ? leanCosts_ : costs_).observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
+		searchCosts.observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
 	};
 	// Under a budget every search but the first leaves room for the polish
 	// after it (unbudgeted, everything fits). A box with no room for even
@@ -448,7 +450,6 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	int searched = 0;
 	auto searchFits = [&]() {
 		const bool first = searched++ == 0;
-		StageCostModel &searchCosts = leanSearch_ ? leanCosts_ : costs_;
 		int64_t predicted = searchCosts.bound(Stage::kViews, config.budgetMargin);
 		if (!first && config.icp)
 			predicted += config.views.budgetPolishRounds *

@@ -82,6 +82,17 @@ protected:
 		return e.estimate(depth_->view(), test::kKinect, box_, *model_->model, c);
 	}
 
+	// One frame of `boxes` boxes (the same box) in budgetMs on e.
+	std::vector<PoseEstimate> runFrame(PoseEstimator &e, const EstimatorConfig &c, float budgetMs, int boxes = 1)
+	{
+		e.beginFrame(boxes, budgetMs);
+		std::vector<PoseEstimate> r;
+		for (int b = 0; b < boxes; ++b)
+			r.push_back(run(e, c));
+		e.endFrame();
+		return r;
+	}
+
 	// One box on a fresh estimator whose clock steps 1 ms per read.
 	std::pair<PoseEstimate, EstimatorStats> runFresh(const EstimatorConfig &c)
 	{
@@ -402,9 +413,7 @@ TEST_F(EstimatorBudget, ARefusedViewSearchIsTriedAgain)
 	PoseEstimator e({}, &clock);
 	auto calls = [&](Stage stage) { return e.stats().stages[static_cast<int>(stage)].calls; };
 	auto runIn = [&](float budgetMs) {
-		e.beginFrame(1, budgetMs);
-		const PoseEstimate r = run(e, c);
-		e.endFrame();
+		const PoseEstimate r = runFrame(e, c, budgetMs)[0];
 		EXPECT_TRUE(r.found) << r.reason;
 	};
 	// Ample time: what the box costs before its search, and the search.
@@ -756,9 +765,6 @@ TEST_F(EstimatorBudget, ARegistrationLongerThanTheFrameIsCountedApart)
 	EXPECT_EQ(s.registrationOverruns, 0u);
 }
 
-// A box whose share of the frame is shorter than budgetTightMs votes with
-// the tight profile's fewer parts; a longer share, or a frame of boxes
-// whose shares are long enough, with the budget's.
 // A box whose share holds fewer than leanSearchBelow of the budget's view
 // searches, as measured so far, searches with the lean settings; until a
 // search has been measured, and with the bound off, never.
@@ -772,12 +778,7 @@ TEST_F(EstimatorBudget, AShareOfFewSearchesSearchesLean)
 	c.views.leanSearchBelow = 3.0f;
 	test::StepClock clock(kMs);
 	PoseEstimator e({}, &clock);
-	auto runIn = [&](float budgetMs) {
-		e.beginFrame(1, budgetMs);
-		const PoseEstimate r = run(e, c);
-		e.endFrame();
-		return r;
-	};
+	auto runIn = [&](float budgetMs) { return runFrame(e, c, budgetMs)[0]; };
 	auto searches = [&] { return e.stats().stages[static_cast<int>(Stage::kViews)]; };
 	// Nothing measured yet: even a share shorter than any search is not
 	// counted in searches.
@@ -814,19 +815,15 @@ TEST_F(EstimatorBudget, AShareOfFewSearchesSearchesLean)
 	EXPECT_EQ(e.stats().leanSearchBoxes, lean);
 }
 
+// A box whose share of the frame is shorter than budgetTightMs votes with
+// the tight profile's fewer parts; a longer share, or a frame of boxes
+// whose shares are long enough, with the budget's.
 TEST_F(EstimatorBudget, AShortShareRunsTheLeanerRegistration)
 {
 	EstimatorConfig c = tightParts(config(0, 0.0f), 300.0f);
 	test::StepClock clock(kMs);
 	PoseEstimator e({}, &clock);
-	auto runIn = [&](float budgetMs, int boxes) {
-		e.beginFrame(boxes, budgetMs);
-		std::vector<PoseEstimate> r;
-		for (int b = 0; b < boxes; ++b)
-			r.push_back(run(e, c));
-		e.endFrame();
-		return r;
-	};
+	auto runIn = [&](float budgetMs, int boxes) { return runFrame(e, c, budgetMs, boxes); };
 	const PoseEstimate free = runIn(0.0f, 1)[0];
 	ASSERT_TRUE(free.found) << free.reason;
 	ASSERT_GT(free.parts, 40) << "the box must give more parts than either bound";
