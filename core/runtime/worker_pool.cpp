@@ -47,12 +47,31 @@ inline void relax()
 
 } // namespace
 
-// Claims tasks until none is left; the atomic counter balances uneven tasks.
-void WorkerPool::drain(int thread)
+// Claims tasks of run `generation` until none is left; the claim word
+// balances uneven tasks. A worker that wakes after its run has moved on
+// finds another generation in the word and claims nothing; the task count
+// is in the same word, so a count is never taken from another run.
+void WorkerPool::drain(int thread, uint32_t generation)
 {
-	for (int i = next_.fetch_add(1, std::memory_order_relaxed); i < tasks_;
-	     i = next_.fetch_add(1, std::memory_order_relaxed))
-		task_(i, thread);
+	uint64_t c = claim_.load(std::memory_order_acquire);
+	for (;;) {
+		if (static_cast<uint32_t>(c >> 32) != generation)
+			return;
+		const uint32_t tasks = static_cast<uint32_t>(c >> 16) & 0xffffu;
+		const uint32_t i = static_cast<uint32_t>(c) & 0xffffu;
+		if (i >= tasks)
+			return;
+		if (!claim_.compare_exchange_weak(c, c + 1, std::memory_order_acq_rel, std::memory_order_acquire))
+			continue;
+		task_(static_cast<int>(i) + offset_, thread);
+		if (finished_.fetch_add(1, std::memory_order_acq_rel) + 1 == static_cast<int>(tasks)) {
+			// The lock orders this with the caller's check before it sleeps.
+			std::lock_guard<std::mutex> lock(mutex_);
+			if (callerAsleep_)
+				done_.notify_one();
+		}
+		c = claim_.load(std::memory_order_acquire);
+	}
 }
 
 void WorkerPool::workerLoop(int thread)
@@ -74,12 +93,7 @@ void WorkerPool::workerLoop(int thread)
 		if (stop_.load())
 			return;
 		seen = g;
-		drain(thread);
-		if (busy_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
-			// The lock orders this with the caller's check before it sleeps.
-			std::lock_guard<std::mutex> lock(mutex_);
-			done_.notify_one();
-		}
+		drain(thread, static_cast<uint32_t>(g));
 	}
 }
 
@@ -92,26 +106,39 @@ void WorkerPool::run(int tasks, FunctionRef<void(int, int)> task)
 			task(i, 0);
 		return;
 	}
-	// Published by the release of the new generation.
+	for (int first = 0; first < tasks; first += kMaxTasksPerRun)
+		runPart(first, std::min(tasks - first, kMaxTasksPerRun), task);
+}
+
+void WorkerPool::runPart(int first, int tasks, FunctionRef<void(int, int)> task)
+{
+	// Published by the release of the new claim word: every task of the
+	// previous run has finished, so no worker reads these now.
 	task_ = task;
-	tasks_ = tasks;
-	next_.store(0, std::memory_order_relaxed);
-	busy_.store(static_cast<int>(workers_.size()), std::memory_order_relaxed);
+	offset_ = first;
+	finished_.store(0, std::memory_order_relaxed);
+	uint32_t generation;
 	bool wake;
 	{
 		// Under the mutex: a worker between its check and its sleep sees it.
+		// The word first, so a worker that sees the generation sees its run.
 		std::lock_guard<std::mutex> lock(mutex_);
+		generation = static_cast<uint32_t>(generation_.load(std::memory_order_relaxed) + 1);
+		claim_.store(uint64_t{generation} << 32 | static_cast<uint64_t>(tasks) << 16, std::memory_order_release);
 		generation_.fetch_add(1, std::memory_order_release);
 		wake = sleepers_ > 0;
 	}
 	if (wake)
 		start_.notify_all();
-	drain(0);
-	for (int i = 0; i < kSpins && busy_.load(std::memory_order_acquire) != 0; ++i)
+	drain(0, generation);
+	// Only tasks a worker claimed can still be running.
+	for (int i = 0; i < kSpins && finished_.load(std::memory_order_acquire) != tasks; ++i)
 		relax();
-	if (busy_.load(std::memory_order_acquire) != 0) {
+	if (finished_.load(std::memory_order_acquire) != tasks) {
 		std::unique_lock<std::mutex> lock(mutex_);
-		done_.wait(lock, [&] { return busy_.load(std::memory_order_acquire) == 0; });
+		callerAsleep_ = true;
+		done_.wait(lock, [&] { return finished_.load(std::memory_order_acquire) == tasks; });
+		callerAsleep_ = false;
 	}
 }
 

@@ -42,7 +42,10 @@ public:
 
 private:
 	void workerLoop(int thread);
-	void drain(int thread);
+	// Tasks of one claim word (16 bits of it); longer runs go in parts.
+	static constexpr int kMaxTasksPerRun = 0xffff;
+	void runPart(int first, int tasks, FunctionRef<void(int, int)> task);
+	void drain(int thread, uint32_t generation);
 
 	std::vector<std::thread> workers_; // sized in the constructor only
 	// A run's threads first spin briefly on the atomics, then sleep on the
@@ -52,12 +55,19 @@ private:
 	std::mutex mutex_;
 	std::condition_variable start_, done_;
 	std::atomic<uint64_t> generation_{0}; // runs started
-	std::atomic<int> busy_{0};            // workers still in the current run
+	// The current run's generation (bits 32-63), task count (16-31) and
+	// next unclaimed task (0-15), in one word: a worker claims a task only of
+	// the run it woke for, so one that wakes late (descheduled by another
+	// process) claims nothing of a later run. A run ends when its tasks are
+	// finished, not when every worker has checked in: the caller never waits
+	// for a worker that is not running (BENCHMARKS.md, session 30).
+	std::atomic<uint64_t> claim_{0};
+	std::atomic<int> finished_{0}; // the current run's tasks finished
 	std::atomic<bool> stop_{false};
-	int sleepers_ = 0; // workers waiting on start_ (under mutex_)
+	int sleepers_ = 0;       // workers waiting on start_ (under mutex_)
+	bool callerAsleep_ = false; // the caller waits on done_ (under mutex_)
 	FunctionRef<void(int, int)> task_;
-	int tasks_ = 0;
-	std::atomic<int> next_{0};
+	int offset_ = 0; // the current part's first task
 };
 
 } // namespace ihf

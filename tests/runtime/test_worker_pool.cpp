@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 // WorkerPool: every task runs once per run, on a thread index in range, for
 // any pool size and task count, over many short runs (the spinning hand-off
-// between runs) and runs far apart (the sleeping one).
+// between runs) and runs far apart (the sleeping one), and with more threads
+// than cores, where a worker often wakes after its run has ended.
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -50,7 +52,7 @@ TEST(WorkerPool, EveryTaskRunsOnceOnAThreadInRange)
 	for (int threads : {2, 3, 8}) {
 		WorkerPool pool(threads);
 		ASSERT_EQ(pool.threads(), threads);
-		for (int tasks : {1, 2, 3, 7, 64, 1000}) {
+		for (int tasks : {1, 2, 3, 7, 64, 1000, 70000}) {
 			std::vector<std::atomic<int>> runs(static_cast<size_t>(tasks));
 			std::atomic<int> badThread{0};
 			pool.run(tasks, [&](int task, int thread) {
@@ -100,6 +102,41 @@ TEST(WorkerPool, ManyShortRunsAndRunsAfterTheWorkersSlept)
 		pool.run(5, [&](int, int) { ++ran; });
 		EXPECT_EQ(ran.load(), 5);
 	}
+}
+
+// A run ends when its tasks have finished, whether or not every worker has
+// woken for it; a worker that wakes late must claim nothing, neither of the
+// run it missed nor, with that run's task count, of the next. With twice as
+// many threads as cores the workers are descheduled at any point, so late
+// wake-ups happen all the time; task counts vary from run to run. (Reading
+// the count apart from the claim, a version of the pool deadlocked here
+// within milliseconds.)
+TEST(WorkerPool, AWorkerThatWakesLateRunsNoTaskOfAnotherRun)
+{
+	const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+	WorkerPool pool(std::clamp(2 * cores, 4, WorkerPool::kMaxThreads));
+	constexpr int kCounts[] = {2, 9, 3, 1, 17, 4};
+	std::array<std::atomic<int>, 17> runs{};
+	std::atomic<int> outside{0}, wrong{0};
+	std::atomic<bool> live{false};
+	for (int r = 0; r < 20000; ++r) {
+		const int tasks = kCounts[r % 6];
+		for (auto &n : runs)
+			n.store(0);
+		live.store(true);
+		pool.run(tasks, [&](int task, int) {
+			outside += !live.load();
+			if (task < 0 || task >= tasks)
+				++wrong;
+			else
+				runs[static_cast<size_t>(task)].fetch_add(1);
+		});
+		live.store(false);
+		for (int i = 0; i < tasks; ++i)
+			wrong += runs[static_cast<size_t>(i)].load() != 1;
+	}
+	EXPECT_EQ(outside.load(), 0);
+	EXPECT_EQ(wrong.load(), 0);
 }
 
 } // namespace
