@@ -389,6 +389,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	turns.get("align", e.halfTurns.align);
 	turns.get("inlier_pivot", e.halfTurns.inlierPivot);
 	turns.get("screen", e.halfTurns.screen);
+	turns.get("box_axes", e.halfTurns.boxAxes);
 	IHF_SECTION(turns);
 
 	TableReader conf(root["confidence"].as_table(), file, "confidence");

@@ -687,10 +687,11 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 			h.score = score(h.pose, K, model, config, slot);
 			h.iteration = sources[c].iteration;
 		};
-		for (int i0 = 0; i0 < cfg.axes; i0 += kRound) {
-			const int na = std::min(kRound, cfg.axes - i0);
+		const int turnCount = halfTurnCount(cfg);
+		for (int i0 = 0; i0 < turnCount; i0 += kRound) {
+			const int na = std::min(kRound, turnCount - i0);
 			workers_.run(na, [&](int k, int slot) {
-				const Eigen::Matrix3d turn = halfTurn(i0 + k, cfg.axes);
+				const Eigen::Matrix3d turn = halfTurnOf(cfg, i0 + k);
 				Pose p = turnedAbout(sources[c].pose, turn, centre);
 				if (shown) {
 					if (const auto turned = shownCentroid(p, K, model, slot))
@@ -738,8 +739,8 @@ void PoseEstimator::screenHalfTurns(const CameraIntrinsics &K, const ObjectModel
 	std::array<Screened, kMaxScreen> screened;
 	const int want = std::min(cfg.screen, kMaxScreen);
 	int ns = 0;
-	for (int i = 0; i < cfg.axes; ++i) {
-		Pose p = turnedAbout(source.pose, halfTurn(i, cfg.axes), centre);
+	for (int i = 0; i < halfTurnCount(cfg); ++i) {
+		Pose p = turnedAbout(source.pose, halfTurnOf(cfg, i), centre);
 		int v = nearestView(templates, p);
 		if (v >= 0 && cfg.align) {
 			p.t += shown - p.apply(viewCentroid(templates, v));

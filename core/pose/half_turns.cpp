@@ -13,6 +13,21 @@ Eigen::Matrix3d halfTurn(int i, int count)
 	return 2.0 * a * a.transpose() - Eigen::Matrix3d::Identity();
 }
 
+int halfTurnCount(const HalfTurnConfig &c)
+{
+	return c.axes + (c.boxAxes ? 3 : 0);
+}
+
+Eigen::Matrix3d halfTurnOf(const HalfTurnConfig &c, int i)
+{
+	if (i < c.axes)
+		return halfTurn(i, c.axes);
+	// About axis i - axes of the model frame: 2 e e^T - I.
+	Eigen::Matrix3d turn = -Eigen::Matrix3d::Identity();
+	turn(i - c.axes, i - c.axes) = 1.0;
+	return turn;
+}
+
 Pose turnedAbout(const Pose &pose, const Eigen::Matrix3d &turn, const Eigen::Vector3d &centre)
 {
 	Pose out;

@@ -42,12 +42,22 @@ struct HalfTurnConfig {
 	// as also without templates or with inlierPivot. At most
 	// kMaxHalfTurnScreen.
 	int screen = 8;
+	// Also turn about the model frame's own three axes, the axes of its
+	// box, exactly: the lattice's axis nearest the can's vertical lies 7 deg
+	// off it, and a turn about it lands up to 14 deg from the can turned
+	// round, too far for the polish (session 30).
+	bool boxAxes = true;
 };
 
 inline bool halfTurnsEnabled(const HalfTurnConfig &c) { return c.candidates > 0 && c.axes > 0; }
 
 // Rotation (model frame) by 180 deg about axis i of count, 0 <= i < count.
 Eigen::Matrix3d halfTurn(int i, int count);
+
+// The turns a configuration tries: its lattice's `axes`, then the model's x,
+// y and z axes when boxAxes is set; halfTurnOf(c, i) is turn i of those.
+int halfTurnCount(const HalfTurnConfig &c);
+Eigen::Matrix3d halfTurnOf(const HalfTurnConfig &c, int i);
 
 // `pose` (model -> camera) turned by `turn` (model frame) about the model
 // point `centre`, which stays where it was in the camera frame.
