@@ -45,6 +45,16 @@ inline void relax()
 #endif
 }
 
+// One step of a spin: a pause, and every 64th a yield of the core, so that a
+// spinning thread gives way to a runnable one on a shared core.
+inline void spinStep(int i)
+{
+	if ((i & 63) == 63)
+		std::this_thread::yield();
+	else
+		relax();
+}
+
 } // namespace
 
 // Claims tasks of run `generation` until none is left; the claim word
@@ -80,7 +90,7 @@ void WorkerPool::workerLoop(int thread)
 	for (;;) {
 		uint64_t g = generation_.load(std::memory_order_acquire);
 		for (int i = 0; i < kSpins && g == seen && !stop_.load(std::memory_order_relaxed); ++i) {
-			relax();
+			spinStep(i);
 			g = generation_.load(std::memory_order_acquire);
 		}
 		if (g == seen) {
@@ -133,7 +143,7 @@ void WorkerPool::runPart(int first, int tasks, FunctionRef<void(int, int)> task)
 	drain(0, generation);
 	// Only tasks a worker claimed can still be running.
 	for (int i = 0; i < kSpins && finished_.load(std::memory_order_acquire) != tasks; ++i)
-		relax();
+		spinStep(i);
 	if (finished_.load(std::memory_order_acquire) != tasks) {
 		std::unique_lock<std::mutex> lock(mutex_);
 		callerAsleep_ = true;
