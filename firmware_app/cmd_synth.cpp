@@ -76,9 +76,11 @@ int runSynthCommand(const SynthOptions &o)
 	c.params.depthScale = o.depthScale;
 	c.params.layout.wallProbability = o.wall;
 	if (o.sensor == "ideal")
-		c.params.idealSensor = true;
+		c.params.model = SensorModel::kIdeal;
+	else if (o.sensor == "tof")
+		c.params.model = SensorModel::kTof;
 	else if (o.sensor != "kinect")
-		return usage("--sensor '" + o.sensor + "': expected kinect or ideal");
+		return usage("--sensor '" + o.sensor + "': expected kinect, tof or ideal");
 
 	auto ids = parseIdList(o.objects, "--objects");
 	if (!ids)
@@ -132,7 +134,7 @@ void addSynthCommand(CLI::App &root, Action &action)
 	auto opts = std::make_shared<SynthOptions>();
 	auto *cmd = root.add_subcommand(
 		"synth",
-		"Generate realistic synthetic depth test scenes (BOP layout, Kinect v1 model): one "
+		"Generate realistic synthetic depth test scenes (BOP layout, Kinect v1 or time-of-flight depth model): one "
 		"scene per target object, the target on a cluttered table, occluded within a range, "
 		"with ground truth and coarse detection boxes (boxes.json)");
 	cmd->add_option("--models", opts->models, "BOP models folder (obj_NNNNNN.ply + models_info.json)")
@@ -154,7 +156,7 @@ void addSynthCommand(CLI::App &root, Action &action)
 	cmd->add_option("--wall", opts->wall, "Probability of a wall right behind the table")
 		->capture_default_str();
 	cmd->add_option("--camera", opts->camera, "BOP camera.json with the intrinsics (default Kinect v1 640x480)");
-	cmd->add_option("--sensor", opts->sensor, "Depth model: kinect or ideal (clean depth)")
+	cmd->add_option("--sensor", opts->sensor, "Depth model: kinect (structured light), tof (time of flight) or ideal (clean depth)")
 		->capture_default_str();
 	cmd->add_option("--depth-scale", opts->depthScale, "Depth PNG unit in mm: 1 or 0.1")
 		->capture_default_str();

@@ -10,6 +10,19 @@
 
 namespace ihf {
 
+const char *sensorModelName(SensorModel model)
+{
+	switch (model) {
+	case SensorModel::kKinect:
+		return "kinect";
+	case SensorModel::kTof:
+		return "tof";
+	case SensorModel::kIdeal:
+		return "ideal";
+	}
+	return "?";
+}
+
 SceneSynthesizer::SceneSynthesizer(const ModelLibrary &library, const CameraIntrinsics &K,
 				   SynthParams params)
 	: library_(library), K_(K), params_(params),
@@ -87,10 +100,12 @@ Expected<SynthImage> SceneSynthesizer::attempt(int objId, int imageId, int index
 	Status st = renderer_.renderScene(layout, view, depth_.view(), label_.view());
 	if (!st)
 		return st.error();
-	st = renderer_.renderScene(layout, SceneRenderer::projectorView(view, params_.sensor.baselineMm),
-				   projector_.view(), {}, RenderWindow{-projectorPad_, 0});
-	if (!st)
-		return st.error();
+	if (params_.model == SensorModel::kKinect) {
+		st = renderer_.renderScene(layout, SceneRenderer::projectorView(view, params_.sensor.baselineMm),
+					   projector_.view(), {}, RenderWindow{-projectorPad_, 0});
+		if (!st)
+			return st.error();
+	}
 	auto sil = renderer_.silhouette(layout.objects[0], view);
 	if (!sil)
 		return sil.error();
@@ -110,7 +125,7 @@ Expected<SynthImage> SceneSynthesizer::attempt(int objId, int imageId, int index
 	}
 
 	SynthImage img;
-	if (params_.idealSensor) {
+	if (params_.model == SensorModel::kIdeal) {
 		img.depth = DepthImage16(K_.width, K_.height, 0);
 		for (int y = 0; y < K_.height; ++y)
 			for (int x = 0; x < K_.width; ++x)
@@ -125,7 +140,9 @@ Expected<SynthImage> SceneSynthesizer::attempt(int objId, int imageId, int index
 		scene.labelDropout.assign(layout.objects.size() + 1, 0.0f);
 		for (size_t i = 0; i < layout.objects.size(); ++i)
 			scene.labelDropout[sceneLabel(i)] = static_cast<float>(layout.objects[i].dropout);
-		img.depth = simulateKinect(scene, K_, params_.sensor, rng, params_.depthScale);
+		img.depth = params_.model == SensorModel::kTof
+				    ? simulateTof(scene, K_, params_.tof, rng, params_.depthScale)
+				    : simulateKinect(scene, K_, params_.sensor, rng, params_.depthScale);
 	}
 
 	img.gt.objId = objId;

@@ -19,14 +19,25 @@
 #include "core/synth/occlusion_control.h"
 #include "core/synth/scene_layout.h"
 #include "core/synth/scene_render.h"
+#include "core/synth/tof_sensor.h"
 
 namespace ihf {
 
+enum class SensorModel {
+	kKinect, // structured light (kinect_sensor.h)
+	kTof,    // continuous-wave time of flight (tof_sensor.h)
+	kIdeal,  // clean depth, only rounded to depthScale
+};
+
+// The name `ihf synth --sensor` takes and the dataset records.
+const char *sensorModelName(SensorModel model);
+
 struct SynthParams {
 	LayoutParams layout;
-	KinectParams sensor;
+	SensorModel model = SensorModel::kKinect;
+	KinectParams sensor; // the Kinect model's parameters
+	TofParams tof;       // the time-of-flight model's parameters
 	DetectionNoise detection;
-	bool idealSensor = false; // clean depth, only rounded to depthScale
 	double occlusionMin = 0.0, occlusionMax = 0.6;
 	double occlusionTolerance = 0.03;
 	double truncationProbability = 0.1;

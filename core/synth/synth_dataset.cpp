@@ -60,7 +60,7 @@ Status writeConfigRecord(const fs::path &file, const SynthConfig &c, const Camer
 	j["elevation_deg"] = {p.layout.elevationMinDeg, p.layout.elevationMaxDeg};
 	j["clutter"] = {p.layout.clutterMin, p.layout.clutterMax};
 	j["wall_probability"] = p.layout.wallProbability;
-	j["sensor"] = p.idealSensor ? "ideal" : "kinect-v1";
+	j["sensor"] = p.model == SensorModel::kKinect ? "kinect-v1" : sensorModelName(p.model);
 	j["depth_scale"] = p.depthScale;
 	j["cam_K"] = {K.fx, 0.0, K.cx, 0.0, K.fy, K.cy, 0.0, 0.0, 1.0};
 	const std::string text = j.dump(1) + "\n";

@@ -129,6 +129,60 @@ TEST_F(SynthScenes, GroundTruthPoseAgreesWithTheDepth)
 	}
 }
 
+TEST_F(SynthScenes, TimeOfFlightDepthSitsOnItsOwnPixelAndFloatsAtTheOutline)
+{
+	SynthParams p = params(0.0, 0.4, 5);
+	p.model = SensorModel::kTof;
+	SceneSynthesizer synth(*library_, K_, p);
+	const TofParams &tp = synth.params().tof;
+	int outlines = 0, floatings = 0;
+	for (int obj : {1, 8}) {
+		for (int im = 0; im < 2; ++im) {
+			auto img = synth.synthesize(obj, im);
+			ASSERT_TRUE(img) << img.error().message;
+			int interior = 0, exact = 0, outline = 0, floating = 0;
+			for (int y = 3; y < K_.height - 3; ++y) {
+				for (int x = 3; x < K_.width - 3; ++x) {
+					if (img->cleanLabel.at(x, y) != 1)
+						continue;
+					const uint16_t s = img->depth.at(x, y);
+					const double z = img->cleanDepth.at(x, y);
+					bool inside = true;
+					double nearest = 1e9, farthest = 0;
+					for (int dy = -1; dy <= 1; ++dy)
+						for (int dx = -1; dx <= 1; ++dx) {
+							const double zn = img->cleanDepth.at(x + dx, y + dy);
+							inside = inside && img->cleanLabel.at(x + dx, y + dy) == 1;
+							if (zn > 0) {
+								nearest = std::min(nearest, zn);
+								farthest = std::max(farthest, zn);
+							}
+						}
+					if (s == 0)
+						continue;
+					const double bound = 5.0 * tofAxialSigmaMm(tp, z, 70 * std::numbers::pi / 180) +
+							     tp.wiggleMm + 1.0;
+					if (inside && farthest - nearest < 15.0) {
+						// No lateral jitter: the clean depth at the pixel itself.
+						++interior;
+						exact += std::abs(s - z) < bound;
+					} else if (!inside && farthest - nearest > 100.0) {
+						// On an outline over a gap: some pixels float off both surfaces.
+						++outline;
+						floating += s > nearest + 20.0 && s < farthest - 20.0;
+					}
+				}
+			}
+			ASSERT_GT(interior, 100) << obj << "/" << im;
+			EXPECT_GE(exact, 0.99 * interior) << obj << "/" << im;
+			outlines += outline;
+			floatings += floating;
+		}
+	}
+	ASSERT_GT(outlines, 50);
+	EXPECT_GT(floatings, outlines / 5) << floatings << " of " << outlines;
+}
+
 TEST_F(SynthScenes, TargetRestsOnTheTableSeenFromAbove)
 {
 	SceneSynthesizer synth(*library_, K_, params(0.0, 0.6, 8));

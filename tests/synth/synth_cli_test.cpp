@@ -155,6 +155,23 @@ TEST_F(SynthCli, SameSeedIdenticalFilesOtherSeedDifferent)
 	EXPECT_NE(readAll(a / "boxes.json"), readAll(c / "boxes.json"));
 }
 
+TEST_F(SynthCli, TheTimeOfFlightSensorSeesTheSameScenesOtherwise)
+{
+	const fs::path a = *dir_ / "a", t = *dir_ / "tof";
+	const auto r = test::runIhf("synth --models " + models() +
+				    " --objects 1,5 --images 3 --seed 7 --occlusion 0.1:0.5 --sensor tof --quiet --out '" +
+				    t.string() + "'");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	// The sensor draws after the layout: the same ground truth, so one
+	// boxes.json serves both sets; the depth is another sensor's.
+	for (const char *f : {"test/000001/scene_gt.json", "test/000005/scene_gt.json", "camera.json"})
+		EXPECT_EQ(readAll(a / f), readAll(t / f)) << f;
+	EXPECT_NE(readAll(a / "test/000001/depth/000000.png"), readAll(t / "test/000001/depth/000000.png"));
+	EXPECT_NE(readAll(t / "synth_config.json").find("\"sensor\": \"tof\""), std::string::npos)
+		<< readAll(t / "synth_config.json");
+	EXPECT_NE(readAll(a / "synth_config.json").find("\"sensor\": \"kinect-v1\""), std::string::npos);
+}
+
 struct BadCase {
 	std::string args;
 	int exitCode;
@@ -175,6 +192,7 @@ TEST(SynthCliErrors, BadRequestsFailClearlyAndLeaveNothing)
 		{"--models " + m + " --objects 1 --images 1 --occlusion 0:0", 0, ""}, // fully visible
 		{"--models " + m + " --objects 1,x --images 1", 2, "--objects"},
 		{"--models " + m + " --objects 1 --images 0", 2, "--images"},
+		{"--models " + m + " --objects 1 --images 1 --sensor sonar", 2, "--sensor 'sonar'"},
 	};
 	for (const auto &c : cases) {
 		SCOPED_TRACE(c.args);
