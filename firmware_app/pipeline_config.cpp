@@ -323,6 +323,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	score.get("box_min_fill", e.score.boxMinFill);
 	score.get("box_margin", e.score.boxMargin);
 	score.get("residual_weight", e.score.residualWeight);
+	score.get("skip_edge_outliers", e.score.skipEdgeOutliers);
 	IHF_SECTION(score);
 
 	TableReader icp(root["icp"].as_table(), file, "icp");

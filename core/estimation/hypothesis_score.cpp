@@ -10,6 +10,20 @@
 
 namespace ihf {
 
+namespace {
+
+// A drawn pixel with a 4-neighbour inside the image that is not drawn.
+bool onOutline(ImageView<const float> rendered, const float *row, int x, int y)
+{
+	if ((x > 0 && !(row[x - 1] > 0)) || (x + 1 < rendered.width && !(row[x + 1] > 0)))
+		return true;
+	if (y > 0 && !(rendered.row(y - 1)[x] > 0))
+		return true;
+	return y + 1 < rendered.height && !(rendered.row(y + 1)[x] > 0);
+}
+
+} // namespace
+
 HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const float> rendered,
 				const ScoreConfig &config)
 {
@@ -32,10 +46,15 @@ HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const
 			if (std::abs(e) <= config.inlierMm) {
 				s.inliers++;
 				fit += inlierFit(e, config.inlierMm, config.residualWeight);
-			} else if (e > 0)
+			} else if (e > 0) {
+				if (config.skipEdgeOutliers && onOutline(rendered, r, x, y)) {
+					s.compared--;
+					continue;
+				}
 				s.outliers++;
-			else
+			} else {
 				s.occluded++;
+			}
 		}
 	}
 	if (s.rendered > 0) {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Hypothesis scoring pieces: the depth slabs of the first registration and
-// the agreement of a pose with the given box.
+// Hypothesis scoring pieces: the depth slabs of the first registration, the
+// agreement of a pose with the given box, and the outline's outliers.
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -166,6 +166,32 @@ TEST(HypothesisScore, ResidualWeightPrefersTheTighterFit)
 	EXPECT_FLOAT_EQ(l.depthScore, 1.0f - 0.64f);
 	cfg.residualWeight = 0.5f;
 	EXPECT_FLOAT_EQ(scoreHypothesis(o, rl, cfg).depthScore, 1.0f - 0.32f);
+}
+
+TEST(HypothesisScore, OutliersOnTheOutlineCountOnlyWithoutTheSkip)
+{
+	// A 4x3 drawn block; the background (900) shows through at one pixel
+	// of its outline and at its one interior pixel.
+	std::vector<float> obs(6 * 5, 800.0f), ren(6 * 5, 0.0f);
+	ImageView<float> o(obs.data(), 6, 5, 6), r(ren.data(), 6, 5, 6);
+	for (int y = 1; y <= 3; ++y)
+		for (int x = 1; x <= 4; ++x)
+			r.at(x, y) = 800.0f;
+	o.at(1, 2) = 900.0f; // outline (its left neighbour is not drawn)
+	o.at(2, 2) = 900.0f; // interior
+	ScoreConfig cfg;
+	cfg.residualWeight = 0.0f;
+	cfg.skipEdgeOutliers = false;
+	const HypothesisScore all = scoreHypothesis(o, r, cfg);
+	EXPECT_EQ(all.outliers, 2);
+	EXPECT_EQ(all.compared, 12);
+	cfg.skipEdgeOutliers = true;
+	const HypothesisScore skip = scoreHypothesis(o, r, cfg);
+	EXPECT_EQ(skip.outliers, 1);
+	EXPECT_EQ(skip.compared, 11);
+	EXPECT_EQ(skip.inliers, 10);
+	EXPECT_FLOAT_EQ(skip.depthScore, 10.0f / 13.0f);
+	EXPECT_GT(skip.depthScore, all.depthScore);
 }
 
 } // namespace
