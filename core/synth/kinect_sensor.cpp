@@ -8,6 +8,7 @@
 
 #include "core/synth/projector_shadow.h"
 #include "core/synth/random_field.h"
+#include "core/synth/sensor_output.h"
 #include "core/synth/surface_incidence.h"
 
 namespace ihf {
@@ -198,12 +199,8 @@ DepthImage16 simulateKinect(const SensorScene &scene, const CameraIntrinsics &K,
 	DepthImage16 result(W, H, 0);
 	for (int y = 0; y < H; ++y) {
 		for (int x = 0; x < W; ++x) {
-			const size_t i = idx(x, y);
-			double v = out[i];
-			if (v < p.minRangeMm || v > p.maxRangeMm || rng.uniform01() < p.pixelDropout)
-				continue;
-			v = std::round(v / depthScale);
-			result.at(x, y) = static_cast<uint16_t>(std::min(v, 65535.0));
+			result.at(x, y) = sensorDepthValue(out[idx(x, y)], p.minRangeMm, p.maxRangeMm,
+							   p.pixelDropout, rng, depthScale);
 		}
 	}
 	return result;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/synth/random_field.h"
+#include "core/synth/sensor_output.h"
 #include "core/synth/surface_incidence.h"
 
 namespace ihf {
@@ -104,12 +105,10 @@ DepthImage16 simulateTof(const SensorScene &scene, const CameraIntrinsics &K, co
 				if (lost.values[i] < f * f)
 					continue;
 			}
-			double v = zi + tofAxialSigmaMm(p, zi, theta) * white.values[i] +
-				   p.wiggleMm * std::sin(2.0 * std::numbers::pi * zi / p.wigglePeriodMm + phase);
-			if (v < p.minRangeMm || v > p.maxRangeMm || rng.uniform01() < p.pixelDropout)
-				continue;
-			v = std::round(v / depthScale);
-			result.at(x, y) = static_cast<uint16_t>(std::min(v, 65535.0));
+			const double v = zi + tofAxialSigmaMm(p, zi, theta) * white.values[i] +
+					 p.wiggleMm * std::sin(2.0 * std::numbers::pi * zi / p.wigglePeriodMm + phase);
+			result.at(x, y) = sensorDepthValue(v, p.minRangeMm, p.maxRangeMm, p.pixelDropout, rng,
+							   depthScale);
 		}
 	}
 	return result;

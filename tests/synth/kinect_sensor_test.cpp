@@ -14,6 +14,7 @@
 #include "core/synth/projector_shadow.h"
 #include "core/synth/scene_render.h"
 #include "core/synth/synth_config.h"
+#include "tests/synth/tilted_plane.h"
 
 namespace ihf {
 namespace {
@@ -236,27 +237,13 @@ TEST(KinectSensor, GrazingSurfacesLoseDepth)
 	// A plane tilted 85 degrees away from the camera gets (almost) no depth.
 	const KinectParams p = quietParams();
 	const CameraIntrinsics K = kinectV1Intrinsics();
-	DepthImageMm plane(K.width, K.height);
-	const double slope = std::tan(85 * std::numbers::pi / 180);
-	for (int y = 0; y < K.height; ++y)
-		for (int x = 0; x < K.width; ++x) {
-			// z = 1000 + slope * X on the ray through (x, y).
-			const double a = (x - K.cx) / K.fx;
-			const double z = 1000.0 / (1.0 - slope * a);
-			plane.at(x, y) = (z > 600 && z < 3000) ? static_cast<float>(z) : 0.0f;
-		}
+	const DepthImageMm plane = test::tiltedPlane(K, 85, 1000, 600, 3000);
 	SensorScene scene;
 	scene.depth = plane.view();
 	SynthRandom rng(4);
-	const DepthImage16 out = simulateKinect(scene, K, p, rng);
-	int rendered = 0, valid = 0;
-	for (int y = 0; y < K.height; ++y)
-		for (int x = 20; x < K.width; ++x) {
-			rendered += plane.at(x, y) > 0;
-			valid += out.at(x, y) > 0;
-		}
-	ASSERT_GT(rendered, 5000);
-	EXPECT_LT(valid, rendered / 20);
+	const test::Kept kept = test::keptOf(plane, simulateKinect(scene, K, p, rng), 20);
+	ASSERT_GT(kept.rendered, 5000);
+	EXPECT_LT(kept.valid, kept.rendered / 20);
 }
 
 TEST(KinectSensor, DeterministicForASeed)

@@ -13,6 +13,7 @@
 #include "core/synth/primitive_mesh.h"
 #include "core/synth/scene_render.h"
 #include "core/synth/tof_sensor.h"
+#include "tests/synth/tilted_plane.h"
 
 namespace ihf {
 namespace {
@@ -237,26 +238,13 @@ TEST(TofSensor, TooLittleLightLeavesNoDepth)
 	// and its neighbours are far from an edge's jump (55 mm).
 	EXPECT_GT(validShare(2750), 0.99);
 	const CameraIntrinsics K = kinectV1Intrinsics();
-	DepthImageMm plane(K.width, K.height);
-	const double slope = std::tan(75 * std::numbers::pi / 180);
-	for (int y = 0; y < K.height; ++y)
-		for (int x = 0; x < K.width; ++x) {
-			const double a = (x - K.cx) / K.fx;
-			const double z = 2750.0 / (1.0 - slope * a);
-			plane.at(x, y) = (z > 2500 && z < 3000) ? static_cast<float>(z) : 0.0f;
-		}
+	const DepthImageMm plane = test::tiltedPlane(K, 75, 2750, 2500, 3000);
 	SensorScene scene;
 	scene.depth = plane.view();
 	SynthRandom rng(4);
-	const DepthImage16 out = simulateTof(scene, K, p, rng);
-	int rendered = 0, valid = 0;
-	for (int y = 0; y < K.height; ++y)
-		for (int x = 0; x < K.width; ++x) {
-			rendered += plane.at(x, y) > 0;
-			valid += out.at(x, y) > 0;
-		}
-	ASSERT_GT(rendered, 2000);
-	EXPECT_LT(valid, rendered / 20);
+	const test::Kept kept = test::keptOf(plane, simulateTof(scene, K, p, rng));
+	ASSERT_GT(kept.rendered, 2000);
+	EXPECT_LT(kept.valid, kept.rendered / 20);
 }
 
 TEST(TofSensor, DarkPatchesLoseDepthInBlobs)
