@@ -49,7 +49,9 @@ struct HalfTurnConfig {
 	bool boxAxes = true;
 };
 
-inline bool halfTurnsEnabled(const HalfTurnConfig &c) { return c.candidates > 0 && c.axes > 0; }
+// On when there are hypotheses to turn and axes to turn them about: the
+// lattice's, or the box's alone (axes = 0 with boxAxes).
+inline bool halfTurnsEnabled(const HalfTurnConfig &c) { return c.candidates > 0 && (c.axes > 0 || c.boxAxes); }
 
 // Rotation (model frame) by 180 deg about axis i of count, 0 <= i < count.
 Eigen::Matrix3d halfTurn(int i, int count);

@@ -77,6 +77,15 @@ TEST(HalfTurns, TheBoxAxesFollowTheLattice)
 	c.axes = 0; // the box axes alone
 	EXPECT_EQ(halfTurnCount(c), 3);
 	EXPECT_TRUE(halfTurnOf(c, 2).isApprox(Eigen::Vector3d(-1, -1, 1).asDiagonal().toDenseMatrix(), 1e-15));
+	// ... which are a search of their own; without them or without
+	// candidates there is nothing to turn.
+	EXPECT_TRUE(halfTurnsEnabled(c));
+	c.boxAxes = false;
+	EXPECT_FALSE(halfTurnsEnabled(c));
+	c.axes = 64;
+	EXPECT_TRUE(halfTurnsEnabled(c));
+	c.candidates = 0;
+	EXPECT_FALSE(halfTurnsEnabled(c));
 }
 
 TEST(HalfTurns, KeepTheCentreInPlaceAndUndoThemselves)
