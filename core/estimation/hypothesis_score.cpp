@@ -41,20 +41,19 @@ HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const
 			hi = std::max(hi, r[x]);
 			if (!(o[x] > 0))
 				continue;
+			const float e = o[x] - r[x];
+			const bool inlier = std::abs(e) <= config.inlierMm;
+			// An outlier on the outline is not compared at all.
+			if (!inlier && e > 0 && config.skipEdgeOutliers && onOutline(rendered, r, x, y))
+				continue;
 			s.compared++;
-			float e = o[x] - r[x];
-			if (std::abs(e) <= config.inlierMm) {
+			if (inlier) {
 				s.inliers++;
 				fit += inlierFit(e, config.inlierMm, config.residualWeight);
-			} else if (e > 0) {
-				if (config.skipEdgeOutliers && onOutline(rendered, r, x, y)) {
-					s.compared--;
-					continue;
-				}
+			} else if (e > 0)
 				s.outliers++;
-			} else {
+			else
 				s.occluded++;
-			}
 		}
 	}
 	if (s.rendered > 0) {
