@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "core/synth/synth_dataset.h"
@@ -75,12 +76,10 @@ int runSynthCommand(const SynthOptions &o)
 	c.params.seed = o.seed;
 	c.params.depthScale = o.depthScale;
 	c.params.layout.wallProbability = o.wall;
-	if (o.sensor == "ideal")
-		c.params.model = SensorModel::kIdeal;
-	else if (o.sensor == "tof")
-		c.params.model = SensorModel::kTof;
-	else if (o.sensor != "kinect")
+	const std::optional<SensorModel> model = sensorModelNamed(o.sensor);
+	if (!model)
 		return usage("--sensor '" + o.sensor + "': expected kinect, tof or ideal");
+	c.params.model = *model;
 
 	auto ids = parseIdList(o.objects, "--objects");
 	if (!ids)

@@ -23,6 +23,14 @@ const char *sensorModelName(SensorModel model)
 	return "?";
 }
 
+std::optional<SensorModel> sensorModelNamed(std::string_view name)
+{
+	for (SensorModel m : {SensorModel::kKinect, SensorModel::kTof, SensorModel::kIdeal})
+		if (name == sensorModelName(m))
+			return m;
+	return std::nullopt;
+}
+
 SceneSynthesizer::SceneSynthesizer(const ModelLibrary &library, const CameraIntrinsics &K,
 				   SynthParams params)
 	: library_(library), K_(K), params_(params),

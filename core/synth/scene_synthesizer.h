@@ -8,6 +8,8 @@
 // image draws from its own random stream, seeded from (seed, object, image,
 // attempt), so images do not depend on each other or on the object order.
 
+#include <optional>
+#include <string_view>
 #include <vector>
 
 #include "core/common/expected.h"
@@ -29,8 +31,10 @@ enum class SensorModel {
 	kIdeal,  // clean depth, only rounded to depthScale
 };
 
-// The name `ihf synth --sensor` takes and the dataset records.
+// The name `ihf synth --sensor` takes and the dataset records, and the
+// model of a name (nullopt: none).
 const char *sensorModelName(SensorModel model);
+std::optional<SensorModel> sensorModelNamed(std::string_view name);
 
 struct SynthParams {
 	LayoutParams layout;
