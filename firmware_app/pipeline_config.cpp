@@ -2,6 +2,7 @@
 #include "firmware_app/pipeline_config.h"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 #include <string>
 
@@ -420,6 +421,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	budget.get("short_below_ms", e.budgetShortMs);
 	budget.get("short_icp_iterations", e.shortIcpIterations);
 	budget.get("short_icp_render_once", e.shortIcpRenderOnce);
+	budget.get("short_occluded_weight", e.shortOccludedWeight);
 	budget.get("scale_by_box", e.budgetScaleByBox);
 	budget.get("max_window_pixels", e.budgetWindowPixels);
 	budget.get("margin", e.budgetMargin);
@@ -530,6 +532,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.tightRotationModes >= 0, "budget.tight_rotation_modes"),
 			  inRange(e.budgetShortMs >= 0, "budget.short_below_ms"),
 			  inRange(e.shortIcpIterations >= 0, "budget.short_icp_iterations"),
+			  inRange(std::isfinite(e.shortOccludedWeight), "budget.short_occluded_weight"),
 			  inRange(e.budgetWindowPixels >= 0, "budget.max_window_pixels"),
 			  inRange(e.budgetMargin >= 0 && e.budgetMargin <= 10, "budget.margin"),
 			  inRange(s.limits.threads >= 0 && s.limits.threads <= WorkerPool::kMaxThreads, "limits.threads")})

@@ -119,7 +119,12 @@ float boxAgreement(const Mesh &mesh, const Pose &pose, const CameraIntrinsics &w
 	const float inside = std::min(1.0f, ow * oh / area);
 	const float fill = iw * ih / (static_cast<float>(window.width) * window.height);
 	const float fillTerm = std::min(1.0f, fill / std::max(1e-3f, config.boxMinFill));
-	return std::pow(inside * fillTerm, config.boxWeight);
+	// In double, then rounded to float: pow's last bit may differ between
+	// libm variants (amd64 picks an FMA one at run time), which the rounding
+	// hides, and the poses must be the same bits on every target
+	// (tests/estimation/test_golden_pose.cpp).
+	return static_cast<float>(
+		std::pow(static_cast<double>(inside * fillTerm), static_cast<double>(config.boxWeight)));
 }
 
 } // namespace ihf

@@ -161,6 +161,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.budgetShortMs, b.budgetShortMs);
 	EXPECT_EQ(a.shortIcpIterations, b.shortIcpIterations);
 	EXPECT_EQ(a.shortIcpRenderOnce, b.shortIcpRenderOnce);
+	EXPECT_EQ(a.shortOccludedWeight, b.shortOccludedWeight);
 	EXPECT_EQ(a.icpConfig.renderOnce, b.icpConfig.renderOnce);
 	EXPECT_EQ(none->limits.threads, bundled->limits.threads);
 	EXPECT_EQ(a.search.levels, b.search.levels);
@@ -238,6 +239,7 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[budget]\ntarget_parts = -1\n", "budget.target_parts"},
 		     {"[budget]\nshort_icp_iterations = -1\n", "budget.short_icp_iterations"},
 		     {"[budget]\nshort_below_ms = -1\n", "budget.short_below_ms"},
+		     {"[budget]\nshort_occluded_weight = nan\n", "budget.short_occluded_weight"},
 		     {"[search]\nlevels = -1\n", "search.levels"},
 		     {"[half_turns]\ncandidates = 5\n", "half_turns.candidates"},
 		     {"[half_turns]\nkeep = 0\n", "half_turns.keep"},

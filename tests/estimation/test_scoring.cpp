@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Hypothesis scoring pieces: the depth slabs of the first registration, the
 // agreement of a pose with the given box, and the outline's outliers.
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -124,6 +125,51 @@ TEST(BoxAgreement, OverhangPastAFrameBorderSideIsFree)
 	EXPECT_LT(boxAgreement(cube, p, K, cfg, left), 0.6f);
 }
 
+// A one-row rendering at 1000 mm whose observed depth gives the counts:
+// inliers 3 mm off, outliers 200 mm behind, occluded 150 mm in front.
+HypothesisScore scoreCounts(int in, int out, int occ, const ScoreConfig &cfg)
+{
+	const int n = in + out + occ;
+	std::vector<float> ren(static_cast<size_t>(n), 1000.0f), obs(static_cast<size_t>(n), 1003.0f);
+	ImageView<float> r(ren.data(), n, 1, n), o(obs.data(), n, 1, n);
+	// The first pixel and the last ones are inliers (in >= 2): the
+	// outliers stay off the outline.
+	for (int i = 1; i <= out; ++i)
+		o.at(i, 0) = 1200.0f;
+	for (int i = out + 1; i <= out + occ; ++i)
+		o.at(i, 0) = 850.0f;
+	return scoreHypothesis(o, r, cfg);
+}
+
+TEST(HypothesisScore, DefaultsPreferAHiddenTruthToAPoseOnItsOccluder)
+{
+	// Counts traced on the session-31 Kinect benchmark (duck, image 32):
+	// the truth, two thirds hidden, against a wrong pose laid on the
+	// occluder 116 mm in front, which overhangs the given box (the cube
+	// below, moved 40 mm sideways: ~0.85 of its extent inside).
+	const Mesh cube = unitCube(100.0f);
+	const CameraIntrinsics K{500, 500, 39.5, 39.5, 80, 80};
+	Pose off;
+	off.t = Eigen::Vector3d(40, 0, 800);
+	auto scores = [&](const ScoreConfig &cfg) {
+		const float truth = scoreCounts(666, 1, 1394, cfg).depthScore;
+		const float wrong = scoreCounts(1875, 16, 20, cfg).depthScore * boxAgreement(cube, off, K, cfg);
+		return std::pair{truth, wrong};
+	};
+	ScoreConfig linear;
+	linear.boxWeight = 1.0f;
+	EXPECT_NEAR(boxAgreement(cube, off, K, linear), 0.85f, 0.05f);
+
+	const auto [truth, wrong] = scores(ScoreConfig{});
+	EXPECT_GT(truth, wrong);
+	ScoreConfig old; // sessions 5-31
+	old.outlierWeight = 3.0f;
+	old.occludedWeight = 0.2f;
+	old.boxWeight = 1.0f;
+	const auto [oldTruth, oldWrong] = scores(old);
+	EXPECT_LT(oldTruth, oldWrong);
+}
+
 TEST(HypothesisScore, CountsInliersOutliersAndOcclusion)
 {
 	std::vector<float> obs(4, 0.0f), ren(4, 0.0f);
@@ -181,6 +227,7 @@ TEST(HypothesisScore, OutliersOnTheOutlineCountOnlyWithoutTheSkip)
 	o.at(2, 2) = 900.0f; // interior
 	ScoreConfig cfg;
 	cfg.residualWeight = 0.0f;
+	cfg.outlierWeight = 3.0f;
 	cfg.skipEdgeOutliers = false;
 	const HypothesisScore all = scoreHypothesis(o, r, cfg);
 	EXPECT_EQ(all.outliers, 2);
