@@ -2,7 +2,6 @@
 #include "firmware_app/pipeline_config.h"
 
 #include <algorithm>
-#include <cmath>
 #include <set>
 #include <string>
 
@@ -325,6 +324,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	score.get("box_margin", e.score.boxMargin);
 	score.get("residual_weight", e.score.residualWeight);
 	score.get("skip_edge_outliers", e.score.skipEdgeOutliers);
+	score.get("box_occluded_side", e.score.boxOccludedSide);
+	score.get("box_occluded_band_px", e.score.boxOccludedBandPx);
 	IHF_SECTION(score);
 
 	TableReader icp(root["icp"].as_table(), file, "icp");
@@ -421,7 +422,6 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	budget.get("short_below_ms", e.budgetShortMs);
 	budget.get("short_icp_iterations", e.shortIcpIterations);
 	budget.get("short_icp_render_once", e.shortIcpRenderOnce);
-	budget.get("short_occluded_weight", e.shortOccludedWeight);
 	budget.get("scale_by_box", e.budgetScaleByBox);
 	budget.get("max_window_pixels", e.budgetWindowPixels);
 	budget.get("margin", e.budgetMargin);
@@ -457,6 +457,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.maxShiftVotes >= 0, "votes.max_shift_votes"),
 			  inRange(e.score.outlierWeight >= 0, "score.outlier_weight"),
 			  inRange(e.score.occludedWeight >= 0, "score.occluded_weight"),
+			  inRange(e.score.boxOccludedSide >= 0 && e.score.boxOccludedSide <= 1, "score.box_occluded_side"),
+			  inRange(e.score.boxOccludedBandPx >= 1, "score.box_occluded_band_px"),
 			  inRange(e.score.residualWeight >= 0 && e.score.residualWeight <= 1, "score.residual_weight"),
 			  inRange(e.icpCandidates >= 0, "icp.candidates"),
 			  inRange(e.finalIcpIterations >= 0 && e.finalIcpIterations <= 100, "icp.final_iterations"),
@@ -532,7 +534,6 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.tightRotationModes >= 0, "budget.tight_rotation_modes"),
 			  inRange(e.budgetShortMs >= 0, "budget.short_below_ms"),
 			  inRange(e.shortIcpIterations >= 0, "budget.short_icp_iterations"),
-			  inRange(std::isfinite(e.shortOccludedWeight), "budget.short_occluded_weight"),
 			  inRange(e.budgetWindowPixels >= 0, "budget.max_window_pixels"),
 			  inRange(e.budgetMargin >= 0 && e.budgetMargin <= 10, "budget.margin"),
 			  inRange(s.limits.threads >= 0 && s.limits.threads <= WorkerPool::kMaxThreads, "limits.threads")})

@@ -85,6 +85,35 @@ std::optional<Eigen::Vector3d> inlierCentroid(ImageView<const float> observed, I
 	return sum / n;
 }
 
+OpenSides occludedSides(ImageView<const float> observed, ImageView<const float> rendered,
+			const ScoreConfig &config, OpenSides open)
+{
+	if (!(config.boxOccludedSide > 0) || rendered.width <= 0 || rendered.height <= 0)
+		return open;
+	const int band = std::clamp(config.boxOccludedBandPx, 1, std::min(rendered.width, rendered.height));
+	// Drawn and occluded pixels of the band [x0, x1) x [y0, y1).
+	auto occludedShare = [&](int x0, int x1, int y0, int y1) {
+		int drawn = 0, hidden = 0;
+		for (int y = y0; y < y1; ++y) {
+			const float *r = rendered.row(y);
+			const float *o = observed.row(y);
+			for (int x = x0; x < x1; ++x) {
+				if (!(r[x] > 0))
+					continue;
+				++drawn;
+				hidden += o[x] > 0 && r[x] - o[x] > config.inlierMm;
+			}
+		}
+		return drawn >= 4 && static_cast<float>(hidden) >= config.boxOccludedSide * static_cast<float>(drawn);
+	};
+	const int w = rendered.width, h = rendered.height;
+	open.left = open.left || occludedShare(0, band, 0, h);
+	open.right = open.right || occludedShare(w - band, w, 0, h);
+	open.top = open.top || occludedShare(0, w, 0, band);
+	open.bottom = open.bottom || occludedShare(0, w, h - band, h);
+	return open;
+}
+
 float boxAgreement(const Mesh &mesh, const Pose &pose, const CameraIntrinsics &window,
 		   const ScoreConfig &config, OpenSides open)
 {

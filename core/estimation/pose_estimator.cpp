@@ -999,7 +999,8 @@ HypothesisScore PoseEstimator::score(const Pose &pose, const CameraIntrinsics &K
 	if (!renderPose(pose, K, model, slot))
 		return {};
 	HypothesisScore s = scoreHypothesis(observedView_, renderViewOf(slot), config.score);
-	s.boxFactor = boxAgreement(model.renderMesh(), pose, K, config.score, openSides_);
+	s.boxFactor = boxAgreement(model.renderMesh(), pose, K, config.score,
+				   occludedSides(observedView_, renderViewOf(slot), config.score, openSides_));
 	s.score = s.depthScore * s.boxFactor;
 	return s;
 }
@@ -1201,8 +1202,6 @@ EstimatorConfig underShortBudget(EstimatorConfig c)
 {
 	c.icpConfig.iterations = underBound(c.icpConfig.iterations, c.shortIcpIterations);
 	c.icpConfig.renderOnce = c.icpConfig.renderOnce || c.shortIcpRenderOnce;
-	if (c.shortOccludedWeight >= 0)
-		c.score.occludedWeight = c.shortOccludedWeight;
 	return c;
 }
 

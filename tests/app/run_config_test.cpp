@@ -161,13 +161,15 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.budgetShortMs, b.budgetShortMs);
 	EXPECT_EQ(a.shortIcpIterations, b.shortIcpIterations);
 	EXPECT_EQ(a.shortIcpRenderOnce, b.shortIcpRenderOnce);
-	EXPECT_EQ(a.shortOccludedWeight, b.shortOccludedWeight);
 	EXPECT_EQ(a.icpConfig.renderOnce, b.icpConfig.renderOnce);
 	EXPECT_EQ(none->limits.threads, bundled->limits.threads);
 	EXPECT_EQ(a.search.levels, b.search.levels);
 	EXPECT_EQ(a.bank.viewpoints, b.bank.viewpoints);
 	EXPECT_EQ(a.score.outlierWeight, b.score.outlierWeight);
 	EXPECT_EQ(a.score.occludedWeight, b.score.occludedWeight);
+	EXPECT_EQ(a.score.boxWeight, b.score.boxWeight);
+	EXPECT_EQ(a.score.boxOccludedSide, b.score.boxOccludedSide);
+	EXPECT_EQ(a.score.boxOccludedBandPx, b.score.boxOccludedBandPx);
 	EXPECT_EQ(a.score.residualWeight, b.score.residualWeight);
 	EXPECT_EQ(a.views.inplane, b.views.inplane);
 	EXPECT_EQ(a.views.centres, b.views.centres);
@@ -239,7 +241,8 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[budget]\ntarget_parts = -1\n", "budget.target_parts"},
 		     {"[budget]\nshort_icp_iterations = -1\n", "budget.short_icp_iterations"},
 		     {"[budget]\nshort_below_ms = -1\n", "budget.short_below_ms"},
-		     {"[budget]\nshort_occluded_weight = nan\n", "budget.short_occluded_weight"},
+		     {"[score]\nbox_occluded_side = 1.5\n", "score.box_occluded_side"},
+		     {"[score]\nbox_occluded_band_px = 0\n", "score.box_occluded_band_px"},
 		     {"[search]\nlevels = -1\n", "search.levels"},
 		     {"[half_turns]\ncandidates = 5\n", "half_turns.candidates"},
 		     {"[half_turns]\nkeep = 0\n", "half_turns.keep"},
