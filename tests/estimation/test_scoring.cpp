@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Hypothesis scoring pieces: the depth slabs of the first registration, the
-// agreement of a pose with the given box, and the outline's outliers.
+// agreement of a pose with the given box (and its sides the scene hides),
+// and the outline's outliers.
 #include <utility>
 #include <vector>
 
