@@ -30,6 +30,7 @@ struct EstimateOptions {
 	std::string out;
 	std::string config;
 	std::string statsJson;
+	std::string boxKind; // empty: the config's
 	int iterations = -1;
 	double budgetMs = -1;
 	int threads = -1;
@@ -144,6 +145,14 @@ int runEstimate(const EstimateOptions &o)
 		s.estimator.frameBudgetMs = static_cast<float>(o.budgetMs);
 	if (o.threads >= 0)
 		s.limits.threads = o.threads;
+	if (!o.boxKind.empty()) {
+		Expected<BoxKind> kind = parseBoxKind(o.boxKind, "--box-kind");
+		if (!kind) {
+			std::fprintf(stderr, "ihf estimate: %s\n", kind.error().message.c_str());
+			return kExitUsage;
+		}
+		useBoxKind(s, *kind);
+	}
 
 	std::map<int, std::unique_ptr<ObjectModel>> models;
 	for (const auto &spec : o.forests) {
@@ -327,7 +336,8 @@ int runEstimate(const EstimateOptions &o)
 		     "p99 %.1f ms; wrote %s\n",
 		     done, rows.size(), noPose, skipped, 1e3 * percentile(boxTimes, 0.5),
 		     1e3 * percentile(boxTimes, 0.99), o.out.c_str());
-	EstimateRunSummary summary{estimator.stats(), s.limits, s.estimator.frameBudgetMs, boxTimes};
+	EstimateRunSummary summary{estimator.stats(), s.limits, s.estimator.frameBudgetMs, boxTimes,
+				   boxKindName(s.boxKind), s.estimator.score};
 	printEstimateStats(stderr, summary);
 	if (!o.statsJson.empty()) {
 		if (auto st = writeFileAtomic(o.statsJson, estimateStatsJson(summary)); !st) {
@@ -353,6 +363,10 @@ void addEstimateCommand(CLI::App &root, Action &action)
 		->check(CLI::ExistingFile);
 	cmd->add_option("--iterations", opts->iterations, "Refinement iterations k (0: initial registration only)")
 		->check(CLI::Range(0, 100));
+	cmd->add_option("--box-kind", opts->boxKind,
+			"What the boxes bound: amodal (the whole object, as BOP's bbox_obj) or modal (its visible "
+			"part, as most detectors give); selects the score's weights (default from the config, amodal)")
+		->check(CLI::IsMember({"amodal", "modal"}));
 	cmd->add_flag("--no-icp", opts->noIcp, "Skip the final ICP polish");
 	cmd->add_flag("--no-views", opts->noViews, "Skip the view-template rotation search");
 	cmd->add_flag("--no-half-turns", opts->noHalfTurns, "Skip the half-turns of the best hypotheses");

@@ -43,6 +43,7 @@ struct RunOptions {
 	double statsInterval = -1;
 	double budgetMs = -1;         // --frame-budget-ms: drop late frames
 	double estimateBudgetMs = -1; // --budget-ms: the frame's estimation budget
+	std::string boxKind;          // --box-kind
 };
 
 int failWith(const std::string &message, int code = kExitFailure)
@@ -80,6 +81,8 @@ int runRun(const RunOptions &o)
 		rs.frameBudgetMs = o.budgetMs;
 	if (o.estimateBudgetMs >= 0)
 		rs.budgetMs = o.estimateBudgetMs;
+	if (!o.boxKind.empty())
+		rs.boxKind = o.boxKind;
 	if (!o.forests.empty()) {
 		rs.forests.clear();
 		for (const std::string &spec : o.forests) {
@@ -108,6 +111,12 @@ int runRun(const RunOptions &o)
 		es->estimator.frameBudgetMs = static_cast<float>(rs.budgetMs);
 	else if (rs.estimateConfig.empty())
 		es->estimator.frameBudgetMs = kDeviceFrameBudgetMs;
+	if (!rs.boxKind.empty()) {
+		Expected<BoxKind> kind = parseBoxKind(rs.boxKind, "--box-kind");
+		if (!kind)
+			return failWith(kind.error().message, kExitUsage);
+		useBoxKind(*es, *kind);
+	}
 
 	std::map<int, std::unique_ptr<ObjectModel>> owned;
 	std::map<int, const ObjectModel *> models;
@@ -234,6 +243,10 @@ void addRunCommand(CLI::App &root, Action &action)
 	cmd->add_option("--budget-ms", o->estimateBudgetMs,
 			"estimation time per frame, shared by its boxes (overrides [estimate] budget_ms; 0: unlimited)")
 		->check(CLI::NonNegativeNumber);
+	cmd->add_option("--box-kind", o->boxKind,
+			"what the boxes bound: amodal (the whole object) or modal (its visible part, as most "
+			"detectors give); overrides [boxes] kind")
+		->check(CLI::IsMember({"amodal", "modal"}));
 	cmd->add_option("--stats-interval", o->statsInterval, "seconds between stats lines on stderr (0: end only)")
 		->check(CLI::NonNegativeNumber);
 	cmd->add_option("--vis", o->vis, "write PNGs of each box's depth crop with the hypothesis silhouette per iteration");

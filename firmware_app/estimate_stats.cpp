@@ -65,6 +65,9 @@ void printEstimateStats(std::FILE *out, const EstimateRunSummary &sum)
 		     static_cast<unsigned long long>(s.icpSkipped), static_cast<unsigned long long>(s.frameOverruns),
 		     static_cast<unsigned long long>(s.boxOverruns),
 		     static_cast<unsigned long long>(s.registrationOverruns), ms(s.worstFrameNs));
+	std::fprintf(out, "ihf estimate: boxes taken as %s: occluded weight %.2f, box power %.2f, occluded side %.2f\n",
+		     sum.boxKind, static_cast<double>(sum.score.occludedWeight), static_cast<double>(sum.score.boxWeight),
+		     static_cast<double>(sum.score.boxOccludedSide));
 	std::fprintf(out,
 		     "ihf estimate: arena used %zu bytes (%.1f MiB) of %zu (%.1f MiB); persistent %zu (%.1f MiB)\n",
 		     s.arenaHighWater, mib(s.arenaHighWater), s.arenaCapacity, mib(s.arenaCapacity),
@@ -108,6 +111,10 @@ std::string estimateStatsJson(const EstimateRunSummary &sum)
 		       {"box_overruns", s.boxOverruns},
 		       {"registration_overruns", s.registrationOverruns},
 		       {"worst_frame_ms", ms(s.worstFrameNs)}};
+	j["score"] = {{"box_kind", sum.boxKind},
+		      {"occluded_weight", sum.score.occludedWeight},
+		      {"box_weight", sum.score.boxWeight},
+		      {"box_occluded_side", sum.score.boxOccludedSide}};
 	j["arena"] = {{"capacity_bytes", s.arenaCapacity},
 		      {"persistent_bytes", s.arenaPersistent},
 		      {"used_bytes", s.arenaHighWater}};

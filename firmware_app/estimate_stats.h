@@ -18,6 +18,10 @@ struct EstimateRunSummary {
 	EstimatorLimits limits;
 	float frameBudgetMs = 0;
 	std::vector<double> boxSeconds; // wall time of each estimate() call
+	// What the boxes were taken as ("amodal" or "modal") and the score's
+	// weights that follow from it.
+	const char *boxKind = "amodal";
+	ScoreConfig score;
 };
 
 void printEstimateStats(std::FILE *out, const EstimateRunSummary &summary);

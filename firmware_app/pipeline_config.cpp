@@ -2,6 +2,7 @@
 #include "firmware_app/pipeline_config.h"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 #include <string>
 
@@ -271,6 +272,29 @@ Expected<TrainSettings> loadTrainConfig(const std::filesystem::path &path)
 	return s;
 }
 
+Expected<BoxKind> parseBoxKind(const std::string &name, const std::string &what)
+{
+	if (name == "amodal")
+		return BoxKind::kAmodal;
+	if (name == "modal")
+		return BoxKind::kModal;
+	return makeError(Errc::kInvalidArgument, what + ": \"" + name + "\" is not a box kind (amodal or modal)");
+}
+
+const char *boxKindName(BoxKind kind)
+{
+	return kind == BoxKind::kModal ? "modal" : "amodal";
+}
+
+void useBoxKind(EstimateSettings &settings, BoxKind kind)
+{
+	const BoxKindWeights &w = kind == BoxKind::kModal ? settings.modal : settings.amodal;
+	settings.boxKind = kind;
+	settings.estimator.score.occludedWeight = w.occludedWeight;
+	settings.estimator.score.boxWeight = w.boxWeight;
+	settings.estimator.score.boxOccludedSide = w.boxOccludedSide;
+}
+
 void applyPapersMethod(EstimatorConfig &e)
 {
 	e.icp = false;
@@ -284,7 +308,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	EstimateSettings s;
 	if (path.empty())
 		return s;
-	auto parsed = openConfig(path, {"refinement", "votes", "score", "icp", "search", "view_search", "half_turns", "confidence", "render_mesh", "budget", "limits"});
+	auto parsed = openConfig(path, {"refinement", "votes", "boxes", "score", "modal_boxes", "icp", "search", "view_search", "half_turns", "confidence", "render_mesh", "budget", "limits"});
 	if (!parsed)
 		return parsed.error();
 	const toml::table &root = *parsed;
@@ -315,6 +339,14 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	votes.get("max_shift_votes", e.maxShiftVotes);
 	IHF_SECTION(votes);
 
+	TableReader boxes(root["boxes"].as_table(), file, "boxes");
+	std::string kind = boxKindName(s.boxKind);
+	boxes.get("kind", kind);
+	IHF_SECTION(boxes);
+	Expected<BoxKind> boxKind = parseBoxKind(kind, file + ": boxes.kind");
+	if (!boxKind)
+		return boxKind.error();
+
 	TableReader score(root["score"].as_table(), file, "score");
 	score.get("inlier_mm", e.score.inlierMm);
 	score.get("occluded_weight", e.score.occludedWeight);
@@ -327,6 +359,12 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	score.get("box_occluded_side", e.score.boxOccludedSide);
 	score.get("box_occluded_band_px", e.score.boxOccludedBandPx);
 	IHF_SECTION(score);
+
+	TableReader modal(root["modal_boxes"].as_table(), file, "modal_boxes");
+	modal.get("occluded_weight", s.modal.occludedWeight);
+	modal.get("box_weight", s.modal.boxWeight);
+	modal.get("box_occluded_side", s.modal.boxOccludedSide);
+	IHF_SECTION(modal);
 
 	TableReader icp(root["icp"].as_table(), file, "icp");
 	icp.get("enabled", e.icp);
@@ -422,6 +460,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	budget.get("short_below_ms", e.budgetShortMs);
 	budget.get("short_icp_iterations", e.shortIcpIterations);
 	budget.get("short_icp_render_once", e.shortIcpRenderOnce);
+	budget.get("short_occluded_weight", e.shortOccludedWeight);
 	budget.get("scale_by_box", e.budgetScaleByBox);
 	budget.get("max_window_pixels", e.budgetWindowPixels);
 	budget.get("margin", e.budgetMargin);
@@ -457,8 +496,13 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.maxShiftVotes >= 0, "votes.max_shift_votes"),
 			  inRange(e.score.outlierWeight >= 0, "score.outlier_weight"),
 			  inRange(e.score.occludedWeight >= 0, "score.occluded_weight"),
+			  inRange(e.score.boxWeight >= 0, "score.box_weight"),
+			  inRange(s.modal.boxWeight >= 0, "modal_boxes.box_weight"),
 			  inRange(e.score.boxOccludedSide >= 0 && e.score.boxOccludedSide <= 1, "score.box_occluded_side"),
 			  inRange(e.score.boxOccludedBandPx >= 1, "score.box_occluded_band_px"),
+			  inRange(s.modal.occludedWeight >= 0, "modal_boxes.occluded_weight"),
+			  inRange(s.modal.boxOccludedSide >= 0 && s.modal.boxOccludedSide <= 1,
+				  "modal_boxes.box_occluded_side"),
 			  inRange(e.score.residualWeight >= 0 && e.score.residualWeight <= 1, "score.residual_weight"),
 			  inRange(e.icpCandidates >= 0, "icp.candidates"),
 			  inRange(e.finalIcpIterations >= 0 && e.finalIcpIterations <= 100, "icp.final_iterations"),
@@ -534,11 +578,14 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.tightRotationModes >= 0, "budget.tight_rotation_modes"),
 			  inRange(e.budgetShortMs >= 0, "budget.short_below_ms"),
 			  inRange(e.shortIcpIterations >= 0, "budget.short_icp_iterations"),
+			  inRange(std::isfinite(e.shortOccludedWeight), "budget.short_occluded_weight"),
 			  inRange(e.budgetWindowPixels >= 0, "budget.max_window_pixels"),
 			  inRange(e.budgetMargin >= 0 && e.budgetMargin <= 10, "budget.margin"),
 			  inRange(s.limits.threads >= 0 && s.limits.threads <= WorkerPool::kMaxThreads, "limits.threads")})
 		if (!st)
 			return st.error();
+	s.amodal = {e.score.occludedWeight, e.score.boxWeight, e.score.boxOccludedSide};
+	useBoxKind(s, *boxKind);
 	return s;
 }
 
@@ -587,7 +634,11 @@ Expected<RunSettings> loadRunConfig(const std::filesystem::path &path)
 	TableReader boxes(root["boxes"].as_table(), file, "boxes");
 	boxes.get("input", s.boxes);
 	boxes.get("timeout_ms", s.boxesTimeoutMs);
+	boxes.get("kind", s.boxKind);
 	IHF_SECTION(boxes);
+	if (!s.boxKind.empty())
+		if (Expected<BoxKind> k = parseBoxKind(s.boxKind, file + ": boxes.kind"); !k)
+			return k.error();
 
 	TableReader out(root["output"].as_table(), file, "output");
 	out.get("poses", s.poses);

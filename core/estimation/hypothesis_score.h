@@ -28,19 +28,20 @@ struct ScoreConfig {
 	// (something in front) often does, up to most of the object. Weighted
 	// 1 / 0.5, a model laid on the occluder in front outscored the truth in
 	// a sixth of the synthetic ape boxes (BENCHMARKS.md, session 5). At
-	// 3 / 0.2 it still wins 25 of the 66 boxes lost on the session-31
+	// 3 / 0.2 it still won 25 of the 66 boxes lost on the session-31
 	// Kinect benchmark; 0.1 with a box weight of 1.5 gained 0.012 mean F1
 	// over 41 object/forest pairs with amodal boxes, but lost 0.065 with
-	// boxes round the visible part (session 32), so 0.2 and 1 stay.
+	// boxes round the visible part (session 32). These defaults are for
+	// amodal boxes; the tool keeps both sets (firmware_app: BoxKind).
 	float outlierWeight = 3.0f;
-	float occludedWeight = 0.2f;
+	float occludedWeight = 0.1f;
 	// Agreement with the given box, which is taken to enclose the whole
 	// object (an amodal detection, as LM-O's bbox_obj): the score is
 	// multiplied by (inside * fill')^boxWeight, where inside is the share of
 	// the hypothesis' projected extent inside the box and fill' =
 	// min(1, covered box share / boxMinFill). A hypothesis too near (too big
 	// for the box) or too far (too small) loses; boxWeight 0 turns it off.
-	float boxWeight = 1.0f;
+	float boxWeight = 1.5f;
 	float boxMinFill = 0.5f;
 	float boxMargin = 0.1f; // overhang tolerated, share of the box size
 	// A side of the box where at least this share of the rendering's

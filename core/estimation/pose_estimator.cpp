@@ -1202,6 +1202,8 @@ EstimatorConfig underShortBudget(EstimatorConfig c)
 {
 	c.icpConfig.iterations = underBound(c.icpConfig.iterations, c.shortIcpIterations);
 	c.icpConfig.renderOnce = c.icpConfig.renderOnce || c.shortIcpRenderOnce;
+	if (c.shortOccludedWeight >= 0)
+		c.score.occludedWeight = c.shortOccludedWeight;
 	return c;
 }
 

@@ -178,6 +178,11 @@ struct EstimatorConfig {
 	// rounds and searches; with more time the render each iteration is
 	// the more precise (BENCHMARKS.md, session 26).
 	bool shortIcpRenderOnce = true;
+	// and scores occluded pixels with this weight instead of
+	// score.occludedWeight (negative: as that): offline the lower 0.1 gains,
+	// at 10 ms, with few and mostly unpolished candidates, it lost 0.02
+	// mean F1 (BENCHMARKS.md, session 32).
+	float shortOccludedWeight = 0.2f;
 	// A box's window at most this many pixels (0: EstimatorLimits::
 	// maxWindowPixels); a larger box is processed downsampled, as at the
 	// limit. Inside a budget the budget one: the render, score and polish

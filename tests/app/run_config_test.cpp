@@ -39,6 +39,7 @@ retry_backoff_max_ms = 80
 [boxes]
 input = "unix:run/ihf.sock"
 timeout_ms = 40
+kind = "modal"
 [output]
 poses = "file:out/poses.jsonl"
 [objects]
@@ -64,6 +65,7 @@ max_frames = 100
 	EXPECT_EQ(s->retryBackoffMaxMs, 80);
 	EXPECT_EQ(s->boxes, "unix:" + (dir / "run/ihf.sock").string());
 	EXPECT_EQ(s->boxesTimeoutMs, 40);
+	EXPECT_EQ(s->boxKind, "modal");
 	EXPECT_EQ(s->poses, "file:" + (dir / "out/poses.jsonl").string());
 	ASSERT_EQ(s->forests.size(), 2u);
 	EXPECT_EQ(s->forests.at(20), dir / "forests/bunny.ihf");
@@ -82,6 +84,7 @@ TEST(RunConfig, DevicePathsStayAsGiven)
 	EXPECT_EQ(s->sourceUri, "v4l2:/dev/video0?format=y16");
 	EXPECT_EQ(s->boxes, "stdin");
 	EXPECT_EQ(s->poses, "stdout");
+	EXPECT_EQ(s->boxKind, ""); // as the estimation config's
 	EXPECT_FALSE(s->realTime);
 }
 
@@ -99,6 +102,10 @@ TEST(RunConfig, ErrorsNameTheFileAndKey)
 	auto obj = loadRunConfig(writeConfig("obj", "[objects]\nbunny = \"b.ihf\"\n"));
 	ASSERT_FALSE(obj.ok());
 	EXPECT_NE(obj.error().message.find("objects.bunny"), std::string::npos) << obj.error().message;
+
+	auto kind = loadRunConfig(writeConfig("kind", "[boxes]\nkind = \"visible\"\n"));
+	ASSERT_FALSE(kind.ok());
+	EXPECT_NE(kind.error().message.find("boxes.kind"), std::string::npos) << kind.error().message;
 
 	auto range = loadRunConfig(writeConfig("range", "[source]\nretry_backoff_ms = 100\nretry_backoff_max_ms = 10\n"));
 	ASSERT_FALSE(range.ok());
@@ -161,6 +168,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.budgetShortMs, b.budgetShortMs);
 	EXPECT_EQ(a.shortIcpIterations, b.shortIcpIterations);
 	EXPECT_EQ(a.shortIcpRenderOnce, b.shortIcpRenderOnce);
+	EXPECT_EQ(a.shortOccludedWeight, b.shortOccludedWeight);
 	EXPECT_EQ(a.icpConfig.renderOnce, b.icpConfig.renderOnce);
 	EXPECT_EQ(none->limits.threads, bundled->limits.threads);
 	EXPECT_EQ(a.search.levels, b.search.levels);
@@ -243,6 +251,12 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[budget]\nshort_below_ms = -1\n", "budget.short_below_ms"},
 		     {"[score]\nbox_occluded_side = 1.5\n", "score.box_occluded_side"},
 		     {"[score]\nbox_occluded_band_px = 0\n", "score.box_occluded_band_px"},
+		     {"[score]\nbox_weight = -1\n", "score.box_weight"},
+		     {"[modal_boxes]\nbox_weight = -1\n", "modal_boxes.box_weight"},
+		     {"[modal_boxes]\noccluded_weight = -0.1\n", "modal_boxes.occluded_weight"},
+		     {"[modal_boxes]\nbox_occluded_side = 2\n", "modal_boxes.box_occluded_side"},
+		     {"[boxes]\nkind = \"visible\"\n", "boxes.kind"},
+		     {"[budget]\nshort_occluded_weight = nan\n", "budget.short_occluded_weight"},
 		     {"[search]\nlevels = -1\n", "search.levels"},
 		     {"[half_turns]\ncandidates = 5\n", "half_turns.candidates"},
 		     {"[half_turns]\nkeep = 0\n", "half_turns.keep"},
@@ -268,6 +282,57 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		EXPECT_NE(s.error().message.find(key), std::string::npos) << s.error().message;
 		EXPECT_NE(s.error().message.find("e.toml"), std::string::npos) << s.error().message;
 	}
+}
+
+// The kind of the given boxes selects the score's occlusion and box weights:
+// [score]'s for amodal boxes (the default), [modal_boxes]' for modal ones,
+// and switching back restores them.
+TEST(EstimateConfig, TheBoxKindSelectsTheScoreWeights)
+{
+	auto bundled = loadEstimateConfig(test::sourceDir() / "config" / "estimate.toml");
+	ASSERT_TRUE(bundled.ok()) << bundled.error().message;
+	EXPECT_EQ(bundled->boxKind, BoxKind::kAmodal);
+	const ScoreConfig library;
+	EXPECT_EQ(bundled->estimator.score.occludedWeight, library.occludedWeight);
+	EXPECT_EQ(bundled->estimator.score.boxWeight, library.boxWeight);
+	EXPECT_EQ(bundled->estimator.score.boxOccludedSide, library.boxOccludedSide);
+	auto none = loadEstimateConfig({});
+	ASSERT_TRUE(none.ok());
+	EXPECT_EQ(none->modal.occludedWeight, bundled->modal.occludedWeight);
+	EXPECT_EQ(none->modal.boxWeight, bundled->modal.boxWeight);
+	EXPECT_EQ(none->modal.boxOccludedSide, bundled->modal.boxOccludedSide);
+
+	EstimateSettings s = *bundled;
+	useBoxKind(s, BoxKind::kModal);
+	EXPECT_EQ(s.boxKind, BoxKind::kModal);
+	EXPECT_EQ(s.estimator.score.occludedWeight, 0.2f);
+	EXPECT_EQ(s.estimator.score.boxWeight, 1.0f);
+	EXPECT_EQ(s.estimator.score.boxOccludedSide, 0.5f);
+	EXPECT_EQ(s.estimator.score.inlierMm, bundled->estimator.score.inlierMm); // the rest as it was
+	useBoxKind(s, BoxKind::kAmodal);
+	EXPECT_EQ(s.estimator.score.occludedWeight, library.occludedWeight);
+	EXPECT_EQ(s.estimator.score.boxWeight, library.boxWeight);
+	EXPECT_EQ(s.estimator.score.boxOccludedSide, library.boxOccludedSide);
+
+	// A file's own weights for either kind, and the kind chosen in it.
+	const fs::path dir = test::freshTempDir("estimate_config_box_kind");
+	std::ofstream(dir / "e.toml") << "[boxes]\nkind = \"modal\"\n[score]\noccluded_weight = 0.3\n"
+					  "[modal_boxes]\noccluded_weight = 0.4\nbox_weight = 2.0\nbox_occluded_side = 0.25\n";
+	auto own = loadEstimateConfig(dir / "e.toml");
+	ASSERT_TRUE(own.ok()) << own.error().message;
+	EXPECT_EQ(own->boxKind, BoxKind::kModal);
+	EXPECT_EQ(own->estimator.score.occludedWeight, 0.4f);
+	EXPECT_EQ(own->estimator.score.boxWeight, 2.0f);
+	EXPECT_EQ(own->estimator.score.boxOccludedSide, 0.25f);
+	useBoxKind(*own, BoxKind::kAmodal);
+	EXPECT_EQ(own->estimator.score.occludedWeight, 0.3f);
+	EXPECT_EQ(own->estimator.score.boxWeight, library.boxWeight);
+
+	EXPECT_TRUE(parseBoxKind("amodal", "x").ok());
+	auto bad = parseBoxKind("visible", "f.toml: boxes.kind");
+	ASSERT_FALSE(bad.ok());
+	EXPECT_NE(bad.error().message.find("f.toml: boxes.kind"), std::string::npos);
+	EXPECT_NE(bad.error().message.find("visible"), std::string::npos);
 }
 
 // --paper: the paper's method alone (no ICP, view search or half-turns), its

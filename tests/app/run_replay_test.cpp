@@ -191,6 +191,41 @@ TEST_F(RunReplay, SamePosesAsEstimateAndAnErrorLineForAnUnknownObject)
 	EXPECT_EQ(got.errors[0]["frame"], expected.begin()->first.frame);
 }
 
+// The kind of box reaches the estimator the same way in both commands: with
+// modal boxes `ihf run` gives `ihf estimate --box-kind modal`'s poses, which
+// differ from the amodal ones (the score's weights differ).
+TEST_F(RunReplay, TheBoxKindGivesTheSamePosesAsEstimate)
+{
+	const fs::path &d = *dir_;
+	CommandResult r = runIhf("estimate --dataset " + q(d / "ds") + " --boxes " + q(d / "ds" / "boxes.json") +
+				 " --forest 20=" + q(d / "bunny.ihf") + " --config " +
+				 q(sourceDir() / "config" / "estimate.toml") + " --box-kind modal --out " +
+				 q(d / "est_modal.csv"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	const auto modal = estimateRows(d / "est_modal.csv");
+	const auto amodal = estimateRows(d / "est.csv");
+	ASSERT_EQ(modal.size(), amodal.size());
+	bool differs = false;
+	for (const auto &[key, row] : modal)
+		differs = differs || row.score != amodal.at(key).score || !row.pose.t.isApprox(amodal.at(key).pose.t);
+	EXPECT_TRUE(differs) << "the modal weights should change some confidence";
+
+	r = runIhf("run --config " + q(d / "device.toml") + " --boxes file:" + q(d / "boxes.jsonl") +
+		   " --box-kind modal --out file:" + q(d / "poses_modal.jsonl"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	const RunOutput got = readRunOutput(d / "poses_modal.jsonl");
+	ASSERT_EQ(got.poses.size(), modal.size()) << r.output;
+	for (const auto &[key, row] : modal) {
+		auto it = got.poses.find(key);
+		ASSERT_NE(it, got.poses.end()) << "no pose for frame " << key.frame;
+		expectSamePose(it->second, row);
+	}
+
+	r = runIhf("run --config " + q(d / "device.toml") + " --box-kind visible");
+	EXPECT_NE(r.exitCode, 0);
+	EXPECT_NE(r.output.find("--box-kind"), std::string::npos) << r.output;
+}
+
 TEST_F(RunReplay, CorruptFrameIsSkippedAndCountedTheStreamGoesOn)
 {
 	const fs::path &d = *dir_;

@@ -87,6 +87,37 @@ TEST_F(EstimateCli, ReportsStagesBudgetAndArena)
 	EXPECT_GT(j["limits_used"]["votes"][0].get<int>(), 0);
 }
 
+// --box-kind: what the boxes bound selects the score's weights, reported
+// with the stats; a kind it does not know is a usage error.
+TEST_F(EstimateCli, TheBoxKindSelectsTheScoreWeights)
+{
+	const auto json = *dir_ / "kind.json";
+	auto r = test::runIhf(args("--iterations 0 --budget-ms 0 --threads 1 --box-kind modal --config '" +
+				   (test::sourceDir() / "config" / "estimate.toml").string() + "' --stats-json '" +
+				   json.string() + "'"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("boxes taken as modal: occluded weight 0.20, box power 1.00, occluded side 0.50"),
+		  std::string::npos)
+		<< r.output;
+	std::ifstream in(json);
+	ASSERT_TRUE(in.good());
+	auto j = nlohmann::json::parse(in);
+	EXPECT_EQ(j["score"]["box_kind"], "modal");
+	EXPECT_FLOAT_EQ(j["score"]["occluded_weight"].get<float>(), 0.2f);
+	EXPECT_FLOAT_EQ(j["score"]["box_weight"].get<float>(), 1.0f);
+	EXPECT_FLOAT_EQ(j["score"]["box_occluded_side"].get<float>(), 0.5f);
+
+	r = test::runIhf(args("--iterations 0 --budget-ms 0 --threads 1 --stats-json '" + json.string() + "'"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("boxes taken as amodal: occluded weight 0.10, box power 1.50, occluded side 0.00"),
+		  std::string::npos)
+		<< r.output;
+
+	r = test::runIhf(args("--box-kind visible"));
+	EXPECT_NE(r.exitCode, 0);
+	EXPECT_NE(r.output.find("--box-kind"), std::string::npos) << r.output;
+}
+
 // --trace: per box the truth's score ("given"), every scored hypothesis,
 // then the result, whose pose is the best-scoring hypothesis and whose
 // confidence is the CSV's score.

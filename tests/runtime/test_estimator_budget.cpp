@@ -891,6 +891,14 @@ TEST(EstimatorUnderBudget, AShortShareBoundsTheIcpIterations)
 	EXPECT_EQ(ihf::underShortBudget(c).icpConfig.iterations, 10);
 	c.shortIcpRenderOnce = false;
 	EXPECT_FALSE(ihf::underShortBudget(c).icpConfig.renderOnce);
+	// Occluded pixels cost the short weight there, the score's elsewhere.
+	c.score.occludedWeight = 0.1f;
+	c.shortOccludedWeight = 0.2f;
+	EXPECT_EQ(ihf::underShortBudget(c).score.occludedWeight, 0.2f);
+	EXPECT_EQ(ihf::underShare(c, 10.0).config.score.occludedWeight, 0.2f);
+	EXPECT_EQ(ihf::underShare(c, 20.0).config.score.occludedWeight, 0.1f);
+	c.shortOccludedWeight = -1.0f; // as the score's
+	EXPECT_EQ(ihf::underShortBudget(c).score.occludedWeight, 0.1f);
 	c.budgetShortMs = 0; // never
 	EXPECT_FALSE(ihf::shortShare(c, 1.0));
 }
