@@ -415,6 +415,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	views.get("max_shift_mm", e.views.maxShiftMm);
 	views.get("distinct_deg", e.views.distinctDeg);
 	views.get("box_centre", e.views.boxCentre);
+	views.get("edge_insets", e.views.edgeInsets);
+	views.get("edge_inset_share", e.views.edgeInsetShare);
 	views.get("coarse_at_centre", e.views.coarseAtCentre);
 	views.get("coarse_points", e.views.coarsePoints);
 	views.get("coarse_keep", e.views.coarseKeep);
@@ -533,6 +535,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.views.budgetRefineTop >= 1 && e.views.budgetRefineTop <= kMaxRefineTop,
 				  "view_search.budget_refine_top"),
 			  inRange(e.views.keep >= 1 && e.views.keep <= 16, "view_search.keep"),
+			  inRange(e.views.edgeInsets >= 0 && e.views.edgeInsets <= 8, "view_search.edge_insets"),
+			  inRange(e.views.edgeInsetShare >= 0 && e.views.edgeInsetShare <= 0.5f, "view_search.edge_inset_share"),
 			  inRange(e.views.inlierMm > 0, "view_search.inlier_mm"),
 			  inRange(e.views.maxShiftMm >= 0, "view_search.max_shift_mm"),
 			  inRange(e.views.distinctDeg >= 0, "view_search.distinct_deg"),

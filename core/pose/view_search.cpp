@@ -142,7 +142,9 @@ public:
 	// Translation at t's depth that puts the centre of the points' projected
 	// extent on the optical axis; on an axis the frame clipped on one side,
 	// the extent's edge on the box's other side (axes with neither keep t's).
-	Eigen::Vector3f centred(const TurnedView &v, const Eigen::Vector3f &t) const
+	// With inset > 0 an extent placed against a side of the box (an axis
+	// clipped on the other) goes that share of its size further inside.
+	Eigen::Vector3f centred(const TurnedView &v, const Eigen::Vector3f &t, float inset = 0.0f) const
 	{
 		// The projections on vector lanes, then their extent.
 		std::array<float, kMaxViewPoints> us, ws;
@@ -167,13 +169,13 @@ public:
 		// The box centre is on the optical axis (virtual_crop.h): the
 		// extent's offset from it, as a lateral move at t's depth. The
 		// window's sides, in the same units, are at -c - 0.5 and size - c - 0.5.
-		auto offset = [](float lo, float hi, float c, int size, bool trusted, bool openLo, bool openHi) {
+		auto offset = [inset](float lo, float hi, float c, int size, bool trusted, bool openLo, bool openHi) {
 			if (trusted)
 				return 0.5f * (lo + hi);
 			if (openLo && !openHi)
-				return hi - (static_cast<float>(size) - c - 0.5f);
+				return hi - (static_cast<float>(size) - c - 0.5f) + inset * (hi - lo);
 			if (openHi && !openLo)
-				return lo - (-c - 0.5f);
+				return lo - (-c - 0.5f) - inset * (hi - lo);
 			return 0.0f;
 		};
 		Eigen::Vector3f out = t;
@@ -368,6 +370,9 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 						   box.open.top != box.open.bottom);
 	const int inplane = config.inplane;
 	const bool centredOnly = !config.coarseAtCentre && centring && anchorDepth > 0 && box.x && box.y;
+	// Placements inside a one-sided clip (edgeInsets).
+	const bool edgePlaced = centring && (box.open.left != box.open.right || box.open.top != box.open.bottom);
+	const int insets = edgePlaced ? std::clamp(config.edgeInsets, 0, 8) : 0;
 
 	// The view's points (already rotated by the view) turned in-plane; the
 	// turns' cosines and sines once per search, not once per rotation.
@@ -394,8 +399,8 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		}
 		t = r.t0;
 		float best = scorer.score(align(t), r.m);
-		if (centring) {
-			Eigen::Vector3f tb = scorer.centred(tv, r.t0);
+		for (int k = 0; centring && k <= insets; ++k) {
+			Eigen::Vector3f tb = scorer.centred(tv, r.t0, static_cast<float>(k) * config.edgeInsetShare);
 			const float sb = scorer.score(align(tb), r.m);
 			if (sb > best) {
 				best = sb;

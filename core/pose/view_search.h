@@ -47,6 +47,16 @@ struct ViewSearchConfig {
 	// box's centre in the virtual crop (the box taken as amodal, like the
 	// score's box factor); the better of the two is kept.
 	bool boxCentre = true;
+	// On an axis the frame clipped on one side the rotation's extent goes
+	// against the box's other side, and also edgeInsets more times, each
+	// edgeInsetShare of the extent further inside: a box drawn round the
+	// object with a margin (issue 3's protocol: 10 % larger; a detector's
+	// slack) has the object's far edge inside its own, and a rotation
+	// placed tens of millimetres off scores below wrong ones before the
+	// climb could move it (session 33: synkaz boxes at the border were
+	// lost at three times the rate of the others). 0: the edge only.
+	int edgeInsets = 2;
+	float edgeInsetShare = 0.075f;
 	// On a depth centre in a box trusted on both axes the coarse pass
 	// scores each rotation at its box-centred translation only; the centre
 	// itself (the box's ray: the model's origin on it) joins in the fine

@@ -201,6 +201,8 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.views.inlierMm, b.views.inlierMm);
 	EXPECT_EQ(a.views.keep, b.views.keep);
 	EXPECT_EQ(a.views.boxCentre, b.views.boxCentre);
+	EXPECT_EQ(a.views.edgeInsets, b.views.edgeInsets);
+	EXPECT_EQ(a.views.edgeInsetShare, b.views.edgeInsetShare);
 	EXPECT_EQ(a.views.coarseAtCentre, b.views.coarseAtCentre);
 	EXPECT_EQ(a.views.coarsePoints, b.views.coarsePoints);
 	EXPECT_EQ(a.views.coarseKeep, b.views.coarseKeep);
@@ -225,6 +227,8 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 	for (const auto &[text, key] : std::vector<std::pair<std::string, std::string>>{
 		     {"[search]\nbank_keep = 20\n", "search.bank_keep"},
 		     {"[view_search]\nkeep = 0\n", "view_search.keep"},
+		     {"[view_search]\nedge_insets = 9\n", "view_search.edge_insets"},
+		     {"[view_search]\nedge_inset_share = 0.6\n", "view_search.edge_inset_share"},
 		     {"[view_search]\npoints = 1000\n", "view_search.points"},
 		     {"[view_search]\ncoarse_keep = 5000\n", "view_search.coarse_keep"},
 		     {"[view_search]\ndepth_centres = 5\n", "view_search.depth_centres"},

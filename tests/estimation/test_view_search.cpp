@@ -1,3 +1,6 @@
+
+
+
 // SPDX-License-Identifier: MIT
 // View templates and the rotation search over them (not in the paper): the
 // templates' points lie on the surface their view sees; at a translation off
@@ -117,6 +120,37 @@ protected:
 			if (rotationAngle(top[j].pose.R, truth.R) * 180.0 / M_PI < 20 && (top[j].pose.t - truth.t).norm() < mm)
 				return true;
 		return false;
+	}
+
+	// The window of a box the frame clipped: the object's extent (in `full`)
+	// with its left third cut off by the frame and `margin` of its width
+	// past its right side; rows centred on the principal point as the
+	// virtual crop's, 5 % past the extent. `voted`: the window's centre ray
+	// at the truth's depth + 20 mm.
+	struct ClippedWindow {
+		std::vector<float> depth;
+		CameraIntrinsics K;
+		Eigen::Vector3d voted;
+		ImageView<const float> view() const { return {depth.data(), K.width, K.height, K.width}; }
+	};
+	ClippedWindow clippedWindow(const std::vector<float> &full, const Pose &truth, double margin) const
+	{
+		const auto [u0, u1, v0, v1] = extent(full);
+		const int mx = static_cast<int>(margin * (u1 - u0)), my = (v1 - v0) / 20;
+		const int x0 = u0 + (u1 - u0) / 3, x1 = u1 + mx;
+		const int half = std::max(static_cast<int>(K_.cy) - v0, v1 - static_cast<int>(K_.cy)) + my;
+		const int y0 = static_cast<int>(K_.cy) - half, y1 = static_cast<int>(K_.cy) + half;
+		const int w = x1 - x0 + 1, h = y1 - y0 + 1;
+		ClippedWindow c{std::vector<float>(static_cast<size_t>(w) * h), K_, {}};
+		for (int y = 0; y < h; ++y)
+			for (int x = 0; x < w; ++x)
+				c.depth[static_cast<size_t>(y) * w + x] = full[static_cast<size_t>(y + y0) * K_.width + x + x0];
+		c.K.cx -= x0;
+		c.K.cy -= y0;
+		c.K.width = w;
+		c.K.height = h;
+		c.voted = c.K.backProject(0.5 * (w - 1), 0.5 * (h - 1), truth.t.z() + 20);
+		return c;
 	}
 
 	static Mesh *mesh_;
@@ -247,41 +281,67 @@ TEST_F(ViewSearchTest, ABoxClippedByTheFrameFindsTheObjectPastItsEdge)
 	ViewSearchConfig cfg;
 	cfg.inplane = 24;
 	cfg.keep = 6;
-	int found = 0, foundAsClosed = 0;
+	// The placement against the edge alone. With the placements inside it
+	// too (the default) this box, only 5 % larger than the object, is found
+	// less often on these clean renders (10 of 16 against 14 in session 33:
+	// more placements, more wrong rotations at the sparse score's ceiling),
+	// while on the benchmarks' boxes at the frame's border they gained
+	// (BENCHMARKS.md); that cost is bounded below.
+	cfg.edgeInsets = 0;
+	ViewSearchConfig inside = cfg;
+	inside.edgeInsets = ViewSearchConfig{}.edgeInsets;
+	int found = 0, foundAsClosed = 0, foundInside = 0;
 	const int trials = 16;
 	for (int i = 0; i < trials; ++i) {
 		std::vector<float> full;
 		const Pose truth = centredPose(rng, full);
-		const auto [u0, u1, v0, v1] = extent(full);
-		// The box: the extent 10 % larger, its left third cut off by the
-		// frame; rows centred on the principal point as the virtual crop's.
-		const int mx = (u1 - u0) / 20, my = (v1 - v0) / 20;
-		const int x0 = u0 + (u1 - u0) / 3, x1 = u1 + mx;
-		const int half = std::max(static_cast<int>(K_.cy) - v0, v1 - static_cast<int>(K_.cy)) + my;
-		const int y0 = static_cast<int>(K_.cy) - half, y1 = static_cast<int>(K_.cy) + half;
-		const int w = x1 - x0 + 1, h = y1 - y0 + 1;
-		std::vector<float> window(static_cast<size_t>(w) * h);
-		for (int y = 0; y < h; ++y)
-			for (int x = 0; x < w; ++x)
-				window[static_cast<size_t>(y) * w + x] = full[static_cast<size_t>(y + y0) * K_.width + x + x0];
-		CameraIntrinsics K = K_;
-		K.cx -= x0;
-		K.cy -= y0;
-		K.width = w;
-		K.height = h;
-		ImageView<const float> view(window.data(), w, h, w);
-		// The window's centre ray at the truth's depth + 20 mm.
-		const Eigen::Vector3d voted =
-			K.backProject(0.5 * (w - 1), 0.5 * (h - 1), truth.t.z() + 20);
+		// The box: the extent 10 % larger, its left third cut off.
+		const ClippedWindow c = clippedWindow(full, truth, 0.05);
+		const ImageView<const float> view = c.view();
+		const CameraIntrinsics &K = c.K;
+		const Eigen::Vector3d &voted = c.voted;
 		ViewProposal top[6];
 		const BoxAxes clipped{false, true, OpenSides{.left = true}};
 		found += near(top, searchViews(templates(), cfg, view, K, voted, top, clipped), truth, 15);
 		foundAsClosed += near(top, searchViews(templates(), cfg, view, K, voted, top, BoxAxes{false, true, {}}), truth, 15);
+		foundInside += near(top, searchViews(templates(), inside, view, K, voted, top, clipped), truth, 15);
 	}
 	RecordProperty("found", found);
 	RecordProperty("found_as_closed", foundAsClosed);
+	RecordProperty("found_inside", foundInside);
 	EXPECT_GE(found, trials * 7 / 10);
 	EXPECT_GT(found, foundAsClosed + 2);
+	EXPECT_GE(foundInside, trials / 2);
+}
+
+// The same with a box drawn with a wide margin, a quarter of the object's
+// width past its right side (ihf synth's boxes are 5-25 % larger and shifted
+// by up to 10 %): placed against the box's right side, the true rotation
+// sits that far off, too far for the climb, and wrong rotations outscore it;
+// placed also inside that side (edgeInsets) it is found.
+TEST_F(ViewSearchTest, AClippedBoxWithAMarginIsSearchedInsideItsEdgeToo)
+{
+	std::mt19937_64 rng(31);
+	ViewSearchConfig inside;
+	inside.inplane = 24;
+	inside.keep = 6;
+	ViewSearchConfig edge = inside;
+	edge.edgeInsets = 0;
+	int found = 0, foundAtEdge = 0;
+	const int trials = 16;
+	for (int i = 0; i < trials; ++i) {
+		std::vector<float> full;
+		const Pose truth = centredPose(rng, full);
+		const ClippedWindow c = clippedWindow(full, truth, 0.25);
+		ViewProposal top[6];
+		const BoxAxes clipped{false, true, OpenSides{.left = true}};
+		found += near(top, searchViews(templates(), inside, c.view(), c.K, c.voted, top, clipped), truth, 15);
+		foundAtEdge += near(top, searchViews(templates(), edge, c.view(), c.K, c.voted, top, clipped), truth, 15);
+	}
+	RecordProperty("found", found);
+	RecordProperty("found_at_edge", foundAtEdge);
+	EXPECT_GE(found, trials / 2);
+	EXPECT_GT(found, foundAtEdge + 4);
 }
 
 TEST_F(ViewSearchTest, ProposalsAreDistinctAndBestFirst)
