@@ -417,6 +417,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	views.get("box_centre", e.views.boxCentre);
 	views.get("edge_insets", e.views.edgeInsets);
 	views.get("edge_inset_share", e.views.edgeInsetShare);
+	views.get("centre_shift_share", e.views.centreShiftShare);
+	views.get("budget_centre_shift_share", e.views.budgetCentreShiftShare);
 	views.get("coarse_at_centre", e.views.coarseAtCentre);
 	views.get("coarse_points", e.views.coarsePoints);
 	views.get("coarse_keep", e.views.coarseKeep);
@@ -459,6 +461,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	budget.get("tight_ibs_cg_iterations", e.tightIbsCgIterations);
 	budget.get("tight_max_hypotheses", e.tightMaxHypotheses);
 	budget.get("tight_rotation_modes", e.tightRotationModes);
+	budget.get("tight_centre_shift_share", e.tightCentreShiftShare);
 	budget.get("short_below_ms", e.budgetShortMs);
 	budget.get("short_icp_iterations", e.shortIcpIterations);
 	budget.get("short_icp_render_once", e.shortIcpRenderOnce);
@@ -537,6 +540,10 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.views.keep >= 1 && e.views.keep <= 16, "view_search.keep"),
 			  inRange(e.views.edgeInsets >= 0 && e.views.edgeInsets <= 8, "view_search.edge_insets"),
 			  inRange(e.views.edgeInsetShare >= 0 && e.views.edgeInsetShare <= 0.5f, "view_search.edge_inset_share"),
+			  inRange(e.views.centreShiftShare >= 0 && e.views.centreShiftShare <= 0.5f,
+				  "view_search.centre_shift_share"),
+			  inRange(e.views.budgetCentreShiftShare >= 0 && e.views.budgetCentreShiftShare <= 0.5f,
+				  "view_search.budget_centre_shift_share"),
 			  inRange(e.views.inlierMm > 0, "view_search.inlier_mm"),
 			  inRange(e.views.maxShiftMm >= 0, "view_search.max_shift_mm"),
 			  inRange(e.views.distinctDeg >= 0, "view_search.distinct_deg"),
@@ -580,6 +587,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.tightIbsCgIterations >= 0, "budget.tight_ibs_cg_iterations"),
 			  inRange(e.tightMaxHypotheses >= 0, "budget.tight_max_hypotheses"),
 			  inRange(e.tightRotationModes >= 0, "budget.tight_rotation_modes"),
+			  inRange(e.tightCentreShiftShare >= 0 && e.tightCentreShiftShare <= 0.5f,
+				  "budget.tight_centre_shift_share"),
 			  inRange(e.budgetShortMs >= 0, "budget.short_below_ms"),
 			  inRange(e.shortIcpIterations >= 0, "budget.short_icp_iterations"),
 			  inRange(std::isfinite(e.shortOccludedWeight), "budget.short_occluded_weight"),

@@ -1195,6 +1195,7 @@ EstimatorConfig underTightBudget(EstimatorConfig c)
 	c.ibsCgIterations = underBound(c.ibsCgIterations, c.tightIbsCgIterations);
 	c.maxHypotheses = underBound(c.maxHypotheses, c.tightMaxHypotheses);
 	c.rotationModes = underBound(c.rotationModes, c.tightRotationModes);
+	c.views.centreShiftShare = std::min(c.views.centreShiftShare, c.tightCentreShiftShare);
 	return c;
 }
 

@@ -166,6 +166,11 @@ struct EstimatorConfig {
 	int tightIbsCgIterations = 6;
 	int tightMaxHypotheses = 2;
 	int tightRotationModes = 2;
+	// and searches with at most this share for the view search's shifted
+	// placements (ViewSearchConfig::centreShiftShare): they double the
+	// search, which a 10 ms box cannot afford (session 33: syn200 fixed
+	// 0.848 -> 0.780 with them, 33 ms 0.890 -> 0.909).
+	float tightCentreShiftShare = 0.0f;
 	// And a box whose share is shorter than budgetShortMs polishes with at
 	// most shortIcpIterations ICP iterations a round (0: as configured):
 	// at 10 ms a round of 10 took ~1 ms, and half of them buy more rounds

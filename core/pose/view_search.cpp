@@ -144,7 +144,10 @@ public:
 	// the extent's edge on the box's other side (axes with neither keep t's).
 	// With inset > 0 an extent placed against a side of the box (an axis
 	// clipped on the other) goes that share of its size further inside.
-	Eigen::Vector3f centred(const TurnedView &v, const Eigen::Vector3f &t, float inset = 0.0f) const
+	// (sx, sy): the placement then moved by that share of the extent along
+	// x and y.
+	Eigen::Vector3f centred(const TurnedView &v, const Eigen::Vector3f &t, float inset = 0.0f, float sx = 0.0f,
+				float sy = 0.0f) const
 	{
 		// The projections on vector lanes, then their extent.
 		std::array<float, kMaxViewPoints> us, ws;
@@ -179,8 +182,10 @@ public:
 			return 0.0f;
 		};
 		Eigen::Vector3f out = t;
-		out.x() -= offset(u0, u1, cx_, obs_.width, box_.x, box_.open.left, box_.open.right) * t.z() / fx_;
-		out.y() -= offset(w0, w1, cy_, obs_.height, box_.y, box_.open.top, box_.open.bottom) * t.z() / fy_;
+		out.x() -= (offset(u0, u1, cx_, obs_.width, box_.x, box_.open.left, box_.open.right) - sx * (u1 - u0)) *
+			   t.z() / fx_;
+		out.y() -= (offset(w0, w1, cy_, obs_.height, box_.y, box_.open.top, box_.open.bottom) - sy * (w1 - w0)) *
+			   t.z() / fy_;
 		return out;
 	}
 
@@ -386,27 +391,31 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		return TurnedView{pts, m, cs[0], cs[1]};
 	};
 	// Score of one rotation of view r, at its translation and the
-	// box-centred one; t gets the better one's.
+	// box-centred ones (inside a one-sided clip, shifted on trusted axes);
+	// t gets the best one's.
+	const float shift = centring ? config.centreShiftShare : 0.0f;
+	const float shiftX[4] = {shift, -shift, 0, 0}, shiftY[4] = {0, 0, shift, -shift};
 	auto evaluate = [&](const RotatedView &r, int turn, Eigen::Vector3f &t, bool coarse, EvalScratch &s) {
 		const TurnedView tv = turnedView(&r.points, r.m, turn);
-		auto align = [&](Eigen::Vector3f &at) {
-			return coarse ? scorer.alignedOnce(tv, at, s.res.data(), s.all.data())
-				      : scorer.aligned(tv, at, s.res.data());
-		};
-		if (coarse && centredOnly) {
-			t = scorer.centred(tv, r.t0);
-			return scorer.score(align(t), r.m);
-		}
-		t = r.t0;
-		float best = scorer.score(align(t), r.m);
-		for (int k = 0; centring && k <= insets; ++k) {
-			Eigen::Vector3f tb = scorer.centred(tv, r.t0, static_cast<float>(k) * config.edgeInsetShare);
-			const float sb = scorer.score(align(tb), r.m);
-			if (sb > best) {
-				best = sb;
-				t = tb;
+		float best = -1.0f;
+		auto consider = [&](Eigen::Vector3f at) {
+			const Tally k = coarse ? scorer.alignedOnce(tv, at, s.res.data(), s.all.data())
+					       : scorer.aligned(tv, at, s.res.data());
+			const float score = scorer.score(k, r.m);
+			if (score > best) {
+				best = score;
+				t = at;
 			}
-		}
+		};
+		if (!(coarse && centredOnly))
+			consider(r.t0);
+		if (!centring)
+			return best;
+		for (int k = 0; k <= insets; ++k)
+			consider(scorer.centred(tv, r.t0, static_cast<float>(k) * config.edgeInsetShare));
+		for (int k = 0; k < 4 && shift > 0; ++k)
+			if (k < 2 ? box.x : box.y)
+				consider(scorer.centred(tv, r.t0, 0.0f, shiftX[k], shiftY[k]));
 		return best;
 	};
 	auto rotateView = [&](RotatedView &r, int v, int stride, EvalScratch &s) {

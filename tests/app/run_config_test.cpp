@@ -165,6 +165,7 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.tightIbsCgIterations, b.tightIbsCgIterations);
 	EXPECT_EQ(a.tightMaxHypotheses, b.tightMaxHypotheses);
 	EXPECT_EQ(a.tightRotationModes, b.tightRotationModes);
+	EXPECT_EQ(a.tightCentreShiftShare, b.tightCentreShiftShare);
 	EXPECT_EQ(a.budgetShortMs, b.budgetShortMs);
 	EXPECT_EQ(a.shortIcpIterations, b.shortIcpIterations);
 	EXPECT_EQ(a.shortIcpRenderOnce, b.shortIcpRenderOnce);
@@ -203,6 +204,8 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.views.boxCentre, b.views.boxCentre);
 	EXPECT_EQ(a.views.edgeInsets, b.views.edgeInsets);
 	EXPECT_EQ(a.views.edgeInsetShare, b.views.edgeInsetShare);
+	EXPECT_EQ(a.views.centreShiftShare, b.views.centreShiftShare);
+	EXPECT_EQ(a.views.budgetCentreShiftShare, b.views.budgetCentreShiftShare);
 	EXPECT_EQ(a.views.coarseAtCentre, b.views.coarseAtCentre);
 	EXPECT_EQ(a.views.coarsePoints, b.views.coarsePoints);
 	EXPECT_EQ(a.views.coarseKeep, b.views.coarseKeep);
@@ -229,6 +232,8 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\nkeep = 0\n", "view_search.keep"},
 		     {"[view_search]\nedge_insets = 9\n", "view_search.edge_insets"},
 		     {"[view_search]\nedge_inset_share = 0.6\n", "view_search.edge_inset_share"},
+		     {"[view_search]\ncentre_shift_share = -0.1\n", "view_search.centre_shift_share"},
+		     {"[view_search]\nbudget_centre_shift_share = 0.6\n", "view_search.budget_centre_shift_share"},
 		     {"[view_search]\npoints = 1000\n", "view_search.points"},
 		     {"[view_search]\ncoarse_keep = 5000\n", "view_search.coarse_keep"},
 		     {"[view_search]\ndepth_centres = 5\n", "view_search.depth_centres"},

@@ -1007,6 +1007,16 @@ TEST(EstimatorUnderBudget, TheTightProfileBoundsTheRegistration)
 	EXPECT_EQ(t.rotationModes, 2);
 	EXPECT_EQ(t.ibsMaxPoints, 300);
 	EXPECT_EQ(t.ibsCgIterations, 6);
+	// The view search's shifted placements: the budget's, then at most the
+	// tight share's.
+	c.views.centreShiftShare = 0.06f;
+	c.views.budgetCentreShiftShare = 0.05f;
+	c.tightCentreShiftShare = 0.0f;
+	EXPECT_EQ(ihf::underBudget(c).views.centreShiftShare, 0.05f);
+	EXPECT_EQ(ihf::underTightBudget(ihf::underBudget(c)).views.centreShiftShare, 0.0f);
+	c.tightCentreShiftShare = 0.1f;
+	EXPECT_EQ(ihf::underTightBudget(ihf::underBudget(c)).views.centreShiftShare, 0.05f);
+	EXPECT_EQ(ihf::underLeanBudget(c.views).centreShiftShare, 0.0f);
 	c.rotationModes = 1; // already below
 	c.tightTargetParts = c.tightMaxShiftVotes = c.tightMaxHypotheses = 0;
 	t = ihf::underTightBudget(ihf::underBudget(c));
