@@ -139,15 +139,13 @@ public:
 		k.fit += in ? inlierFit(e, cfg_.inlierMm, cfg_.residualWeight) : 0.0f;
 	}
 
-	// Translation at t's depth that puts the centre of the points' projected
-	// extent on the optical axis; on an axis the frame clipped on one side,
-	// the extent's edge on the box's other side (axes with neither keep t's).
-	// With inset > 0 an extent placed against a side of the box (an axis
-	// clipped on the other) goes that share of its size further inside.
-	// (sx, sy): the placement then moved by that share of the extent along
-	// x and y.
-	Eigen::Vector3f centred(const TurnedView &v, const Eigen::Vector3f &t, float inset = 0.0f, float sx = 0.0f,
-				float sy = 0.0f) const
+	// The points' projected extent at t, in pixels from the optical axis;
+	// `behind` when a point is not in front of the camera.
+	struct Extent {
+		float u0 = 1e30f, u1 = -1e30f, w0 = 1e30f, w1 = -1e30f;
+		bool behind = false;
+	};
+	Extent extent(const TurnedView &v, const Eigen::Vector3f &t) const
 	{
 		// The projections on vector lanes, then their extent.
 		std::array<float, kMaxViewPoints> us, ws;
@@ -159,16 +157,32 @@ public:
 			us[i] = fx_ * (v.c * ax[i] - v.s * ay[i] + t.x()) / z;
 			ws[i] = fy_ * (v.s * ax[i] + v.c * ay[i] + t.y()) / z;
 		}
+		Extent e;
+		e.behind = behind;
 		if (behind)
-			return t;
-		float u0 = 1e30f, u1 = -1e30f, w0 = 1e30f, w1 = -1e30f;
+			return e;
 		for (int i = 0; i < v.n; ++i) {
 			const float u = us[i], w = ws[i];
-			u0 = std::min(u0, u);
-			u1 = std::max(u1, u);
-			w0 = std::min(w0, w);
-			w1 = std::max(w1, w);
+			e.u0 = std::min(e.u0, u);
+			e.u1 = std::max(e.u1, u);
+			e.w0 = std::min(e.w0, w);
+			e.w1 = std::max(e.w1, w);
 		}
+		return e;
+	}
+
+	// Translation at t's depth that puts the centre of the extent (at t)
+	// on the optical axis; on an axis the frame clipped on one side, the
+	// extent's edge on the box's other side (axes with neither keep t's).
+	// With inset > 0 an extent placed against a side of the box (an axis
+	// clipped on the other) goes that share of its size further inside.
+	// (sx, sy): the placement then moved by that share of the extent along
+	// x and y. One extent serves every placement of a rotation.
+	Eigen::Vector3f centred(const Extent &e, const Eigen::Vector3f &t, float inset = 0.0f, float sx = 0.0f,
+				float sy = 0.0f) const
+	{
+		if (e.behind)
+			return t;
 		// The box centre is on the optical axis (virtual_crop.h): the
 		// extent's offset from it, as a lateral move at t's depth. The
 		// window's sides, in the same units, are at -c - 0.5 and size - c - 0.5.
@@ -182,9 +196,9 @@ public:
 			return 0.0f;
 		};
 		Eigen::Vector3f out = t;
-		out.x() -= (offset(u0, u1, cx_, obs_.width, box_.x, box_.open.left, box_.open.right) - sx * (u1 - u0)) *
+		out.x() -= (offset(e.u0, e.u1, cx_, obs_.width, box_.x, box_.open.left, box_.open.right) - sx * (e.u1 - e.u0)) *
 			   t.z() / fx_;
-		out.y() -= (offset(w0, w1, cy_, obs_.height, box_.y, box_.open.top, box_.open.bottom) - sy * (w1 - w0)) *
+		out.y() -= (offset(e.w0, e.w1, cy_, obs_.height, box_.y, box_.open.top, box_.open.bottom) - sy * (e.w1 - e.w0)) *
 			   t.z() / fy_;
 		return out;
 	}
@@ -411,11 +425,12 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 			consider(r.t0);
 		if (!centring)
 			return best;
+		const auto extent = scorer.extent(tv, r.t0);
 		for (int k = 0; k <= insets; ++k)
-			consider(scorer.centred(tv, r.t0, static_cast<float>(k) * config.edgeInsetShare));
+			consider(scorer.centred(extent, r.t0, static_cast<float>(k) * config.edgeInsetShare));
 		for (int k = 0; k < 4 && shift > 0; ++k)
 			if (k < 2 ? box.x : box.y)
-				consider(scorer.centred(tv, r.t0, 0.0f, shiftX[k], shiftY[k]));
+				consider(scorer.centred(extent, r.t0, 0.0f, shiftX[k], shiftY[k]));
 		return best;
 	};
 	auto rotateView = [&](RotatedView &r, int v, int stride, EvalScratch &s) {
