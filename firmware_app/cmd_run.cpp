@@ -81,8 +81,12 @@ int runRun(const RunOptions &o)
 		rs.frameBudgetMs = o.budgetMs;
 	if (o.estimateBudgetMs >= 0)
 		rs.budgetMs = o.estimateBudgetMs;
-	if (!o.boxKind.empty())
-		rs.boxKind = o.boxKind;
+	if (!o.boxKind.empty()) {
+		Expected<BoxKind> kind = parseBoxKind(o.boxKind, "--box-kind");
+		if (!kind)
+			return failWith(kind.error().message, kExitUsage);
+		rs.boxKind = *kind;
+	}
 	if (!o.forests.empty()) {
 		rs.forests.clear();
 		for (const std::string &spec : o.forests) {
@@ -111,12 +115,8 @@ int runRun(const RunOptions &o)
 		es->estimator.frameBudgetMs = static_cast<float>(rs.budgetMs);
 	else if (rs.estimateConfig.empty())
 		es->estimator.frameBudgetMs = kDeviceFrameBudgetMs;
-	if (!rs.boxKind.empty()) {
-		Expected<BoxKind> kind = parseBoxKind(rs.boxKind, "--box-kind");
-		if (!kind)
-			return failWith(kind.error().message, kExitUsage);
-		useBoxKind(*es, *kind);
-	}
+	if (rs.boxKind)
+		useBoxKind(*es, *rs.boxKind);
 
 	std::map<int, std::unique_ptr<ObjectModel>> owned;
 	std::map<int, const ObjectModel *> models;

@@ -647,11 +647,15 @@ Expected<RunSettings> loadRunConfig(const std::filesystem::path &path)
 	TableReader boxes(root["boxes"].as_table(), file, "boxes");
 	boxes.get("input", s.boxes);
 	boxes.get("timeout_ms", s.boxesTimeoutMs);
-	boxes.get("kind", s.boxKind);
+	std::string kind;
+	boxes.get("kind", kind);
 	IHF_SECTION(boxes);
-	if (!s.boxKind.empty())
-		if (Expected<BoxKind> k = parseBoxKind(s.boxKind, file + ": boxes.kind"); !k)
+	if (!kind.empty()) {
+		Expected<BoxKind> k = parseBoxKind(kind, file + ": boxes.kind");
+		if (!k)
 			return k.error();
+		s.boxKind = *k;
+	}
 
 	TableReader out(root["output"].as_table(), file, "output");
 	out.get("poses", s.poses);

@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "core/common/expected.h"
@@ -110,9 +111,9 @@ struct RunSettings {
 	// [boxes]
 	std::string boxes = "stdin"; // "stdin", "file:PATH" or "unix:PATH"
 	int boxesTimeoutMs = 200; // live box inputs: wait for a frame's boxes
-	// What the boxes bound, "amodal" or "modal"; empty: as the estimation
+	// What the boxes bound ("amodal" or "modal"); none: as the estimation
 	// config's [boxes] kind (a detector's boxes are usually modal).
-	std::string boxKind;
+	std::optional<BoxKind> boxKind;
 	// [output]
 	std::string poses = "stdout"; // "stdout", "file:PATH" or "socket" (the boxes' unix socket)
 	// [objects] object id -> forest file

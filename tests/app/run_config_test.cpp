@@ -65,7 +65,7 @@ max_frames = 100
 	EXPECT_EQ(s->retryBackoffMaxMs, 80);
 	EXPECT_EQ(s->boxes, "unix:" + (dir / "run/ihf.sock").string());
 	EXPECT_EQ(s->boxesTimeoutMs, 40);
-	EXPECT_EQ(s->boxKind, "modal");
+	EXPECT_EQ(s->boxKind, BoxKind::kModal);
 	EXPECT_EQ(s->poses, "file:" + (dir / "out/poses.jsonl").string());
 	ASSERT_EQ(s->forests.size(), 2u);
 	EXPECT_EQ(s->forests.at(20), dir / "forests/bunny.ihf");
@@ -84,7 +84,7 @@ TEST(RunConfig, DevicePathsStayAsGiven)
 	EXPECT_EQ(s->sourceUri, "v4l2:/dev/video0?format=y16");
 	EXPECT_EQ(s->boxes, "stdin");
 	EXPECT_EQ(s->poses, "stdout");
-	EXPECT_EQ(s->boxKind, ""); // as the estimation config's
+	EXPECT_FALSE(s->boxKind.has_value()); // as the estimation config's
 	EXPECT_FALSE(s->realTime);
 }
 

@@ -68,6 +68,14 @@ RunOutput readRunOutput(const fs::path &file)
 
 std::string q(const fs::path &p) { return std::string("'").append(p.string()).append("'"); }
 
+// `ihf estimate` on the data's dataset and forest with the bundled config.
+std::string estimateCommand(const fs::path &d, const fs::path &out, const std::string &extra = "")
+{
+	return "estimate --dataset " + q(d / "ds") + " --boxes " + q(d / "ds" / "boxes.json") + " --forest 20=" +
+	       q(d / "bunny.ihf") + " --config " + q(sourceDir() / "config" / "estimate.toml") + " " + extra +
+	       " --out " + q(out);
+}
+
 class RunReplay : public ::testing::Test
 {
 protected:
@@ -113,9 +121,7 @@ protected:
 		r = runIhf("record --from-bop " + q(d / "ds") + " --compress --out " + q(d / "ds.rec") +
 			   " --boxes " + q(d / "ds" / "boxes.json") + " --boxes-out " + q(d / "boxes.jsonl"));
 		ASSERT_EQ(r.exitCode, 0) << r.output;
-		r = runIhf("estimate --dataset " + q(d / "ds") + " --boxes " + q(d / "ds" / "boxes.json") +
-			   " --forest 20=" + q(d / "bunny.ihf") + " --config " +
-			   q(sourceDir() / "config" / "estimate.toml") + " --out " + q(d / "est.csv"));
+		r = runIhf(estimateCommand(d, d / "est.csv"));
 		ASSERT_EQ(r.exitCode, 0) << r.output;
 
 		// The same boxes, plus one for an object without a forest in the first frame.
@@ -168,6 +174,18 @@ void expectSamePose(const json &j, const ResultRow &r)
 	EXPECT_GE(j["latency_ms"].get<double>(), j["estimate_ms"].get<double>());
 }
 
+// Every pose `ihf estimate` wrote is in `ihf run`'s output, bit for bit, and
+// no other.
+void expectSamePoses(const RunOutput &got, const std::map<PoseKey, ResultRow> &expected, const std::string &output)
+{
+	ASSERT_EQ(got.poses.size(), expected.size()) << output;
+	for (const auto &[key, row] : expected) {
+		auto it = got.poses.find(key);
+		ASSERT_NE(it, got.poses.end()) << "no pose for frame " << key.frame;
+		expectSamePose(it->second, row);
+	}
+}
+
 TEST_F(RunReplay, SamePosesAsEstimateAndAnErrorLineForAnUnknownObject)
 {
 	const fs::path &d = *dir_;
@@ -179,12 +197,7 @@ TEST_F(RunReplay, SamePosesAsEstimateAndAnErrorLineForAnUnknownObject)
 	const auto expected = estimateRows(d / "est.csv");
 	ASSERT_GE(expected.size(), 2u) << "the tiny forest should find most bunnies";
 	const RunOutput got = readRunOutput(d / "poses.jsonl");
-	ASSERT_EQ(got.poses.size(), expected.size()) << r.output;
-	for (const auto &[key, row] : expected) {
-		auto it = got.poses.find(key);
-		ASSERT_NE(it, got.poses.end()) << "no pose for frame " << key.frame;
-		expectSamePose(it->second, row);
-	}
+	ASSERT_NO_FATAL_FAILURE(expectSamePoses(got, expected, r.output));
 	ASSERT_EQ(got.errors.size(), 1u);
 	EXPECT_EQ(got.errors[0]["obj_id"], 99);
 	EXPECT_EQ(got.errors[0]["error"], "no forest for object 99");
@@ -197,10 +210,7 @@ TEST_F(RunReplay, SamePosesAsEstimateAndAnErrorLineForAnUnknownObject)
 TEST_F(RunReplay, TheBoxKindGivesTheSamePosesAsEstimate)
 {
 	const fs::path &d = *dir_;
-	CommandResult r = runIhf("estimate --dataset " + q(d / "ds") + " --boxes " + q(d / "ds" / "boxes.json") +
-				 " --forest 20=" + q(d / "bunny.ihf") + " --config " +
-				 q(sourceDir() / "config" / "estimate.toml") + " --box-kind modal --out " +
-				 q(d / "est_modal.csv"));
+	CommandResult r = runIhf(estimateCommand(d, d / "est_modal.csv", "--box-kind modal"));
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	const auto modal = estimateRows(d / "est_modal.csv");
 	const auto amodal = estimateRows(d / "est.csv");
@@ -214,12 +224,7 @@ TEST_F(RunReplay, TheBoxKindGivesTheSamePosesAsEstimate)
 		   " --box-kind modal --out file:" + q(d / "poses_modal.jsonl"));
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	const RunOutput got = readRunOutput(d / "poses_modal.jsonl");
-	ASSERT_EQ(got.poses.size(), modal.size()) << r.output;
-	for (const auto &[key, row] : modal) {
-		auto it = got.poses.find(key);
-		ASSERT_NE(it, got.poses.end()) << "no pose for frame " << key.frame;
-		expectSamePose(it->second, row);
-	}
+	ASSERT_NO_FATAL_FAILURE(expectSamePoses(got, modal, r.output));
 
 	r = runIhf("run --config " + q(d / "device.toml") + " --box-kind visible");
 	EXPECT_NE(r.exitCode, 0);
