@@ -57,11 +57,14 @@ void printEstimateStats(std::FILE *out, const EstimateRunSummary &sum)
 		std::fprintf(out, "ihf estimate: no frame budget: ");
 	}
 	std::fprintf(out,
-		     "%llu frames, %llu boxes%s, %llu refinement iterations, %llu boxes cut short, "
+		     "%llu frames, %llu boxes%s, %llu refinement iterations, %llu re-searches (%llu better, %llu "
+		     "left out), %llu boxes cut short, "
 		     "%llu ICP skipped, %llu frame overruns, %llu box overruns (%llu already in the initial "
 		     "registration), worst frame %.1f ms\n",
 		     static_cast<unsigned long long>(s.frames), static_cast<unsigned long long>(s.boxes),
-		     profiles, static_cast<unsigned long long>(s.iterations), static_cast<unsigned long long>(s.budgetStops),
+		     profiles, static_cast<unsigned long long>(s.iterations), static_cast<unsigned long long>(s.researches),
+		     static_cast<unsigned long long>(s.researchWins), static_cast<unsigned long long>(s.researchesSkipped),
+		     static_cast<unsigned long long>(s.budgetStops),
 		     static_cast<unsigned long long>(s.icpSkipped), static_cast<unsigned long long>(s.frameOverruns),
 		     static_cast<unsigned long long>(s.boxOverruns),
 		     static_cast<unsigned long long>(s.registrationOverruns), ms(s.worstFrameNs));
@@ -105,6 +108,9 @@ std::string estimateStatsJson(const EstimateRunSummary &sum)
 		       {"short_boxes", s.shortBoxes},
 		       {"lean_search_boxes", s.leanSearchBoxes},
 		       {"refinement_iterations", s.iterations},
+		       {"researches", s.researches},
+		       {"research_wins", s.researchWins},
+		       {"researches_skipped", s.researchesSkipped},
 		       {"budget_stops", s.budgetStops},
 		       {"icp_skipped", s.icpSkipped},
 		       {"frame_overruns", s.frameOverruns},

@@ -329,6 +329,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	ref.get("iteration_ibs_cg_iterations", e.iterationIbsCgIterations);
 	ref.get("iteration_max_shift_votes", e.iterationMaxShiftVotes);
 	ref.get("iteration_target_parts", e.iterationTargetParts);
+	ref.get("research_rounds", e.researchRounds);
+	ref.get("research_polish", e.researchPolish);
 	IHF_SECTION(ref);
 
 	TableReader votes(root["votes"].as_table(), file, "votes");
@@ -450,6 +452,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	TableReader budget(root["budget"].as_table(), file, "budget");
 	budget.get("frame_ms", e.frameBudgetMs);
 	budget.get("max_iterations", e.budgetIterations);
+	budget.get("max_research_rounds", e.budgetResearchRounds);
 	budget.get("max_depth_windows", e.budgetDepthWindows);
 	budget.get("target_parts", e.budgetTargetParts);
 	budget.get("ibs_max_points", e.budgetIbsMaxPoints);
@@ -496,6 +499,8 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(e.iterationIbsCgIterations >= 0, "refinement.iteration_ibs_cg_iterations"),
 			  inRange(e.iterationMaxShiftVotes >= 0, "refinement.iteration_max_shift_votes"),
 			  inRange(e.iterationTargetParts >= 0, "refinement.iteration_target_parts"),
+			  inRange(e.researchRounds >= 0, "refinement.research_rounds"),
+			  inRange(e.researchPolish >= 0 && e.researchPolish <= kMaxViewKeep, "refinement.research_polish"),
 			  inRange(e.maxHypotheses >= 1, "votes.max_hypotheses"),
 			  inRange(e.rotationModes >= 1 && e.rotationModes <= 16, "votes.rotation_modes"),
 			  inRange(e.maxShiftVotes >= 0, "votes.max_shift_votes"),
@@ -537,7 +542,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 				  "view_search.budget_rotation_step_deg"),
 			  inRange(e.views.budgetRefineTop >= 1 && e.views.budgetRefineTop <= kMaxRefineTop,
 				  "view_search.budget_refine_top"),
-			  inRange(e.views.keep >= 1 && e.views.keep <= 16, "view_search.keep"),
+			  inRange(e.views.keep >= 1 && e.views.keep <= kMaxViewKeep, "view_search.keep"),
 			  inRange(e.views.edgeInsets >= 0 && e.views.edgeInsets <= 8, "view_search.edge_insets"),
 			  inRange(e.views.edgeInsetShare >= 0 && e.views.edgeInsetShare <= 0.5f, "view_search.edge_inset_share"),
 			  inRange(e.views.centreShiftShare >= 0 && e.views.centreShiftShare <= 0.5f,
@@ -576,6 +581,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 			  inRange(s.renderMeshErrorMm >= 0 && s.renderMeshErrorMm <= 20, "render_mesh.max_error_mm"),
 			  inRange(e.frameBudgetMs >= 0, "budget.frame_ms"),
 			  inRange(e.budgetIterations >= -1, "budget.max_iterations"),
+			  inRange(e.budgetResearchRounds >= -1, "budget.max_research_rounds"),
 			  inRange(e.budgetDepthWindows >= -1, "budget.max_depth_windows"),
 			  inRange(e.budgetTargetParts >= 0, "budget.target_parts"),
 			  inRange(e.budgetIbsMaxPoints >= 0, "budget.ibs_max_points"),

@@ -31,6 +31,10 @@ struct EstimatorStats {
 	uint64_t iterations = 0;          // refinement iterations run (k >= 1)
 	uint64_t budgetStops = 0;         // boxes whose refinement the budget cut short
 	uint64_t icpSkipped = 0;          // ICP polishes skipped for want of time
+	uint64_t researches = 0;          // refinement's re-search rounds run
+	                                  // (EstimatorConfig::researchRounds)
+	uint64_t researchWins = 0;        // of those, rounds that found a better pose
+	uint64_t researchesSkipped = 0;   // rounds the budget left out
 	uint64_t frameOverruns = 0;       // frames that ended past their budget
 	uint64_t boxOverruns = 0;         // boxes that ended past their share
 	uint64_t registrationOverruns = 0; // of those, past it at the end of the initial

@@ -235,6 +235,9 @@ EstimatorStats PoseEstimator::stats() const
 	s.iterations = iterationsRun_;
 	s.budgetStops = budgetStops_;
 	s.icpSkipped = icpSkipped_;
+	s.researches = researches_;
+	s.researchWins = researchWins_;
+	s.researchesSkipped = researchesSkipped_;
 	s.registrationOverruns = registrationOverruns_;
 	s.tightBoxes = tightBoxes_;
 	s.shortBoxes = shortBoxes_;
@@ -402,44 +405,54 @@ BoxAxes PoseEstimator::boxAxes() const
 	return BoxAxes{!openSides_.left && !openSides_.right, !openSides_.top && !openSides_.bottom, openSides_};
 }
 
+size_t PoseEstimator::searchScored(const CameraIntrinsics &K, const ObjectModel &model,
+				   const EstimatorConfig &config, const Eigen::Vector3d &centre, float anchor,
+				   const char *stage, std::span<Hypothesis> out)
+{
+	const ViewSearchConfig vc = viewScoring(config); // under a budget: underBudget()'s already
+	ViewProposal top[kMaxViewKeep];
+	const size_t keepN = std::min(out.size(), static_cast<size_t>(kMaxViewKeep));
+	const size_t n = searchViews(model.viewTemplates(), vc, observedView_, K, centre,
+				     std::span<ViewProposal>(top, keepN), boxAxes(), anchor, &workers_,
+				     ViewSearchWorkspace{viewHeaps_, viewFine_});
+	Pose poses[kMaxViewKeep];
+	HypothesisScore scores[kMaxViewKeep];
+	for (size_t j = 0; j < n; ++j)
+		poses[j] = top[j].pose;
+	scoreAll(std::span<const Pose>(poses, n), std::span<HypothesisScore>(scores, n), K, model, config);
+	for (size_t j = 0; j < n; ++j) {
+		Hypothesis &h = out[j];
+		h.pose = top[j].pose;
+		h.score = scores[j];
+		h.iteration = config.iterations + 1;
+		h.valid = true;
+		report(h.iteration, stage, static_cast<int>(j), h.pose, h.score, top[j].score);
+	}
+	return n;
+}
+
 // Verifies every view-template rotation at each of the best distinct
 // translations; the best proposals are scored in full and kept. Runs under
 // the polish's budget check, one translation at a time.
 void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectModel &model,
 					const EstimatorConfig &config)
 {
-	constexpr int kMaxCentres = 4, kMaxKeep = 16;
+	constexpr int kMaxCentres = 4;
 	const double diameter = model.params().diameter;
 	Eigen::Vector3d centres[kMaxCentres];
 	const int nc = keptCentres(diameter, std::clamp(config.views.centres, 1, kMaxCentres), centres);
-	const ViewSearchConfig vc = viewScoring(config); // under a budget: underBudget()'s already
-	ViewProposal top[kMaxKeep];
-	const size_t keepN = static_cast<size_t>(std::clamp(config.views.keep, 1, kMaxKeep));
+	const size_t keepN = static_cast<size_t>(std::clamp(config.views.keep, 1, kMaxViewKeep));
 	const float same = static_cast<float>(0.05 * diameter);
-	const BoxAxes axes = boxAxes();
 	// A lean box's searches are measured apart (leanCosts_).
 	StageCostModel &searchCosts = leanSearch_ ? leanCosts_ : costs_;
-	// One search (anchored in depth when anchor > 0); its proposals are
-	// scored in full, reported under `stage` and kept.
+	// One search; its proposals are kept.
 	auto searchAt = [&](const Eigen::Vector3d &centre, float anchor, const char *stage) {
 		const int64_t start = timer_.last();
-		const size_t n = searchViews(model.viewTemplates(), vc, observedView_, K, centre,
-					     std::span<ViewProposal>(top, keepN), axes, anchor, &workers_,
-					     ViewSearchWorkspace{viewHeaps_, viewFine_});
-		Pose poses[kMaxKeep];
-		HypothesisScore scores[kMaxKeep];
+		Hypothesis found[kMaxViewKeep];
+		const size_t n = searchScored(K, model, config, centre, anchor, stage,
+					      std::span<Hypothesis>(found, keepN));
 		for (size_t j = 0; j < n; ++j)
-			poses[j] = top[j].pose;
-		scoreAll(std::span<const Pose>(poses, n), std::span<HypothesisScore>(scores, n), K, model, config);
-		for (size_t j = 0; j < n; ++j) {
-			Hypothesis h;
-			h.pose = top[j].pose;
-			h.score = scores[j];
-			h.iteration = config.iterations + 1;
-			h.valid = true;
-			report(h.iteration, stage, static_cast<int>(j), h.pose, h.score, top[j].score);
-			keep(h, same);
-		}
+			keep(found[j], same);
 		searchCosts.observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
 	};
 	// Under a budget every search but the first leaves room for the polish
@@ -518,6 +531,74 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	} else if (voted()) {
 		fromDepth();
 	}
+}
+
+PoseEstimator::Hypothesis PoseEstimator::researchAtBest(const CameraIntrinsics &K, const ObjectModel &model,
+							const EstimatorConfig &config, const Hypothesis &best,
+							int &rounds)
+{
+	const size_t keepN = static_cast<size_t>(std::clamp(config.views.keep, 1, kMaxViewKeep));
+	const size_t polishN = std::min(keepN, static_cast<size_t>(std::max(0, config.researchPolish)));
+	const size_t round = static_cast<size_t>(workers_.threads());
+	const double same = 0.05 * model.params().diameter;
+	StageCostModel &searchCosts = leanSearch_ ? leanCosts_ : costs_;
+	Hypothesis winner = best;
+	// Unbudgeted, at most k rounds; a budget's config is bounded already
+	// (underBudget()).
+	const int maxRounds =
+		budget_.unlimited() ? std::min(config.researchRounds, config.iterations) : config.researchRounds;
+	for (rounds = 0; rounds < maxRounds;) {
+		// The search and its polish rounds must fit.
+		const int64_t polishRounds = static_cast<int64_t>((polishN + round - 1) / round);
+		const int64_t predicted = searchCosts.bound(Stage::kViews, config.budgetMargin) +
+					  (config.icp ? polishRounds * costs_.bound(Stage::kIcp, config.budgetMargin, boxWork_)
+						      : 0);
+		if (!boxFits(predicted)) {
+			++researchesSkipped_;
+			break;
+		}
+		++rounds;
+		++researches_;
+		const int64_t start = timer_.last();
+		Hypothesis found[kMaxViewKeep];
+		const size_t n = searchScored(K, model, config, winner.pose.t, 0.0f, "research",
+					      std::span<Hypothesis>(found, keepN));
+		searchCosts.observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
+		// Every proposal competes; those that are not the best itself,
+		// best first (as the search returns them), are polished in rounds
+		// of the pool's threads.
+		Hypothesis fresh[kMaxViewKeep], polished[kMaxViewKeep];
+		Hypothesis roundBest;
+		size_t m = 0;
+		for (size_t j = 0; j < n; ++j) {
+			if (!roundBest.valid || found[j].score.score > roundBest.score.score)
+				roundBest = found[j];
+			if (m < polishN && !samePose(found[j].pose, winner.pose, same))
+				fresh[m++] = found[j];
+		}
+		for (size_t c0 = 0; config.icp && c0 < m; c0 += round) {
+			const int64_t icpStart = timer_.last();
+			const size_t k = std::min(round, m - c0);
+			workers_.run(static_cast<int>(k), [&](int i, int slot) {
+				const size_t c = c0 + static_cast<size_t>(i);
+				polished[c] = polishOn(fresh[c], K, model, config, Stage::kIcp, slot, config.icpConfig);
+			});
+			costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart, boxWork_);
+			for (size_t c = c0; c < c0 + k; ++c) {
+				if (!polished[c].valid)
+					continue;
+				report(polished[c].iteration, "research_icp", static_cast<int>(c), polished[c].pose,
+				       polished[c].score, 0);
+				if (polished[c].score.score > roundBest.score.score)
+					roundBest = polished[c];
+			}
+		}
+		if (!roundBest.valid || roundBest.score.score <= winner.score.score)
+			break;
+		winner = roundBest;
+		++researchWins_;
+	}
+	return winner;
 }
 
 PoseEstimator::Hypothesis PoseEstimator::polishIcp(const Hypothesis &h, const CameraIntrinsics &K,
@@ -1153,7 +1234,7 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 	timer_.reset();
 	budget_ = FrameBudget{};
 	iterationsRun_ = budgetStops_ = icpSkipped_ = registrationOverruns_ = tightBoxes_ = shortBoxes_ =
-		leanSearchBoxes_ = 0;
+		leanSearchBoxes_ = researches_ = researchWins_ = researchesSkipped_ = 0;
 	peaks_ = {};
 	if (!e.found)
 		return makeError(Errc::kNoPose, std::string("warm-up box gave no pose: ") + e.reason);
@@ -1175,6 +1256,12 @@ int underBound(int own, int budget)
 
 EstimatorConfig underBudget(EstimatorConfig c)
 {
+	// The re-search is refinement's (none at k = 0), bounded apart from the
+	// forest's re-votes; past this the rounds are not capped by k.
+	if (c.iterations == 0)
+		c.researchRounds = 0;
+	else if (c.budgetResearchRounds >= 0)
+		c.researchRounds = std::min(c.researchRounds, c.budgetResearchRounds);
 	if (c.budgetIterations >= 0)
 		c.iterations = std::min(c.iterations, c.budgetIterations);
 	if (c.budgetDepthWindows >= 0)
@@ -1476,6 +1563,14 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		// The cost model sees the whole round (its clouds are counted
 		// under the cloud stage on one thread, under ICP on more).
 		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart, boxWork_);
+	}
+	if (config.researchRounds > 0 && polishCount > 0 && viewSearchSize(model.viewTemplates(), config.views) > 0) {
+		const Hypothesis refined = researchAtBest(vk, model, config, best, out.researches);
+		if (refined.score.score > best.score.score) {
+			best = refined;
+			out.icpApplied = true;
+		}
+		out.budgetStopped = out.budgetStopped || boxCut_;
 	}
 	// The model's box centre: the half-turns' pivot, and what a symmetric
 	// object's rivals are compared by.

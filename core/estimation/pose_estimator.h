@@ -61,6 +61,17 @@ namespace ihf {
 
 struct EstimatorConfig {
 	int iterations = 5; // k: refinement iterations after the initial registration
+	// Refinement also searches the view templates again at the polished
+	// best hypothesis' own translation (view_search.h): the registration's
+	// searches place each rotation by the box and by depth slabs, which
+	// puts the true rotation millimetres to tens of millimetres off where
+	// the box is off or clipped, while the polish has moved the best,
+	// right or wrong in rotation, onto the object. The new proposals'
+	// researchPolish best are polished; another round follows while one
+	// improves the best, at most researchRounds and at most `iterations`
+	// (k = 0, the initial registration alone: none). Not in the paper.
+	int researchRounds = 1;
+	int researchPolish = 6;
 	float psi1 = 0.97f; // Eq. 10 scaling of the hypothesis' nearest depth
 	float psi2 = 1.03f; // and of its farthest
 	// Initial registration on the densest depth slabs of the box
@@ -139,6 +150,9 @@ struct EstimatorConfig {
 	// the view search and ICP (BENCHMARKS.md, session 12); the iterations
 	// stay anytime whatever the bound.
 	int budgetIterations = 0;
+	// and at most this many re-search rounds (researchRounds; -1: as
+	// without a budget, but not capped by the iterations' bound above).
+	int budgetResearchRounds = 0;
 	int budgetDepthWindows = 1;
 	// and parts kept near at most this many (targetParts; 0: as without a
 	// budget): a large object's registration alone overruns 33 ms at 600,
@@ -290,6 +304,7 @@ struct PoseEstimate {
 	float confidence = 0;    // score.score scaled by the margin (rival_poses.h)
 	float margin = 0;        // score.score less the best distinct rival's
 	int iterationsDone = 0;
+	int researches = 0; // refinement's re-search rounds run (researchRounds)
 	int bestIteration = -1;
 	int parts = 0;  // of the last iteration
 	int votes = 0;
@@ -406,6 +421,16 @@ private:
 				const EstimatorConfig &config);
 	void searchViewTemplates(const CameraIntrinsics &K, const ObjectModel &model,
 				 const EstimatorConfig &config);
+	// One view search at `centre` (anchored in depth when anchor > 0), its
+	// proposals scored in full and reported under `stage`; returns how many
+	// (at most out.size()).
+	size_t searchScored(const CameraIntrinsics &K, const ObjectModel &model, const EstimatorConfig &config,
+			    const Eigen::Vector3d &centre, float anchor, const char *stage, std::span<Hypothesis> out);
+	// Refinement's re-search rounds (EstimatorConfig::researchRounds) from
+	// `best`; returns the best hypothesis found, `best` when none is
+	// better. Each round must fit the budget.
+	Hypothesis researchAtBest(const CameraIntrinsics &K, const ObjectModel &model, const EstimatorConfig &config,
+				  const Hypothesis &best, int &rounds);
 	// Half-turns of the best distinct polished hypotheses (half_turns.h)
 	// about the model's box centre; returns the best found, or `best` when
 	// none scores higher.
@@ -514,7 +539,7 @@ private:
 	double boxWork_ = 1.0;
 	FrameBudget budget_;
 	uint64_t iterationsRun_ = 0, budgetStops_ = 0, icpSkipped_ = 0, registrationOverruns_ = 0, tightBoxes_ = 0,
-		 shortBoxes_ = 0, leanSearchBoxes_ = 0;
+		 shortBoxes_ = 0, leanSearchBoxes_ = 0, researches_ = 0, researchWins_ = 0, researchesSkipped_ = 0;
 	// The current box's start and its initial registration's length (box
 	// start to the end of the k = 0 pass), as the budget sees them.
 	int64_t boxStartNs_ = 0, registrationNs_ = 0;

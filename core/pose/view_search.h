@@ -30,6 +30,7 @@ namespace ihf {
 inline constexpr int kMaxViewPoints = 256;
 inline constexpr int kMaxCoarseKeep = 2048;
 inline constexpr int kMaxRefineTop = 64;
+inline constexpr int kMaxViewKeep = 16; // proposals per search (keep)
 inline constexpr int kMaxInplane = 360; // in-plane turns per viewpoint
 
 struct ViewSearchConfig {

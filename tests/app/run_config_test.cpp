@@ -150,8 +150,11 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.iterationIbsMaxPoints, b.iterationIbsMaxPoints);
 	EXPECT_EQ(a.iterationIbsCgIterations, b.iterationIbsCgIterations);
 	EXPECT_EQ(a.iterationMaxShiftVotes, b.iterationMaxShiftVotes);
+	EXPECT_EQ(a.researchRounds, b.researchRounds);
+	EXPECT_EQ(a.researchPolish, b.researchPolish);
 	EXPECT_EQ(a.frameBudgetMs, b.frameBudgetMs);
 	EXPECT_EQ(a.budgetIterations, b.budgetIterations);
+	EXPECT_EQ(a.budgetResearchRounds, b.budgetResearchRounds);
 	EXPECT_EQ(a.budgetDepthWindows, b.budgetDepthWindows);
 	EXPECT_EQ(a.budgetTargetParts, b.budgetTargetParts);
 	EXPECT_EQ(a.budgetIbsMaxPoints, b.budgetIbsMaxPoints);
@@ -284,6 +287,9 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[refinement]\niteration_ibs_max_points = -1\n", "refinement.iteration_ibs_max_points"},
 		     {"[refinement]\niteration_ibs_cg_iterations = -1\n", "refinement.iteration_ibs_cg_iterations"},
 		     {"[refinement]\niteration_max_shift_votes = -1\n", "refinement.iteration_max_shift_votes"},
+		     {"[refinement]\nresearch_rounds = -1\n", "refinement.research_rounds"},
+		     {"[refinement]\nresearch_polish = 17\n", "refinement.research_polish"},
+		     {"[budget]\nmax_research_rounds = -2\n", "budget.max_research_rounds"},
 		     {"[refinement]\npsi1 = 1.1\npsi2 = 1.0\n", "refinement.psi1/psi2"}}) {
 		std::ofstream(dir / "e.toml") << text;
 		auto s = loadEstimateConfig(dir / "e.toml");

@@ -57,7 +57,9 @@ TEST_F(EstimateCli, ReportsStagesBudgetAndArena)
 	// (on more, a polish's cloud is charged to ICP), so that the stage calls
 	// below can be counted exactly.
 	const auto cfg = *dir_ / "single_pass.toml";
-	std::ofstream(cfg) << "[refinement]\ndepth_windows = 0\n[icp]\ncandidates = 1\nforest_bests = false\n";
+	// No re-search, so that the polishes can be counted.
+	std::ofstream(cfg) << "[refinement]\ndepth_windows = 0\nresearch_rounds = 0\n[icp]\ncandidates = 1\nforest_bests = "
+			      "false\n";
 	auto r = test::runIhf(args("--iterations 1 --budget-ms 0 --threads 1 --config '" + cfg.string() + "' --stats-json '" +
 				   json.string() + "'"));
 	ASSERT_EQ(r.exitCode, 0) << r.output;
@@ -75,6 +77,7 @@ TEST_F(EstimateCli, ReportsStagesBudgetAndArena)
 	EXPECT_EQ(j["budget"]["short_boxes"], 0);
 	EXPECT_EQ(j["budget"]["lean_search_boxes"], 0);
 	EXPECT_EQ(j["budget"]["refinement_iterations"], 2);
+	EXPECT_EQ(j["budget"]["researches"], 0);
 	EXPECT_EQ(j["stages"]["ibs_fit"]["calls"], 4);   // 2 boxes x (k = 0, 1)
 	// and one for each ICP: the polish's and the two best half-turns'
 	EXPECT_EQ(j["stages"]["cloud"]["calls"], 10);
@@ -182,8 +185,8 @@ TEST_F(EstimateCli, BudgetFromTheConfiguration)
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	// Far too little time: both boxes keep their initial registration, which
 	// alone overran; the warm-up said so before the first frame.
-	EXPECT_NE(r.output.find("budget 0.01 ms per frame: 1 frames, 2 boxes (2 tight, 2 short, 2 lean search), 0 refinement iterations, 2 boxes cut short, "
-				"2 ICP skipped, 1 frame overruns, 2 box overruns (2 already in the initial registration)"),
+	EXPECT_NE(r.output.find("budget 0.01 ms per frame: 1 frames, 2 boxes (2 tight, 2 short, 2 lean search), 0 refinement iterations, 0 re-searches (0 better, 0 "
+				"left out), 2 boxes cut short, 2 ICP skipped, 1 frame overruns, 2 box overruns (2 already in the initial registration)"),
 		  std::string::npos)
 		<< r.output;
 	EXPECT_NE(r.output.find("more than the 0.01 ms frame budget; boxes that large will overrun"), std::string::npos)

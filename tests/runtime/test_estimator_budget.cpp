@@ -290,6 +290,41 @@ TEST_F(EstimatorBudget, ViewSearchRunsUnderTheBudgetAndCountsTheBoxOnce)
 	EXPECT_EQ(s.budgetStops, 1u);
 }
 
+// Refinement's re-search inside a budget: at most [budget]
+// max_research_rounds rounds, each only if its search and polish are
+// predicted to fit. A frame one step longer than the box without it leaves
+// it out (counted), and the box keeps the pose it had without it.
+TEST_F(EstimatorBudget, TheResearchRunsOnlyIfItFits)
+{
+	ObjectModel &model = *model_->model;
+	const WithViewTemplates views(model);
+	EstimatorConfig c = config(1, 1e6f, true);
+	c.views.inplane = 6;
+	c.halfTurns.candidates = 0; // nothing after the re-search
+	c.budgetResearchRounds = 0;
+	auto [off, offStats] = runFresh(c);
+	ASSERT_TRUE(off.found) << off.reason;
+	EXPECT_EQ(off.researches, 0);
+	EXPECT_EQ(offStats.researchesSkipped, 0u);
+
+	c.budgetResearchRounds = 1;
+	auto [on, onStats] = runFresh(c);
+	ASSERT_TRUE(on.found) << on.reason;
+	EXPECT_EQ(on.researches, 1);
+	EXPECT_EQ(onStats.researches, 1u);
+	EXPECT_GT(onStats.worstFrameNs, offStats.worstFrameNs);
+
+	c.frameBudgetMs = static_cast<float>(offStats.worstFrameNs / kMs + 1);
+	auto [cut, cutStats] = runFresh(c);
+	ASSERT_TRUE(cut.found) << cut.reason;
+	EXPECT_EQ(cut.researches, 0);
+	EXPECT_EQ(cutStats.researchesSkipped, 1u);
+	EXPECT_TRUE(cut.budgetStopped);
+	EXPECT_EQ(cut.pose.t, off.pose.t);
+	EXPECT_EQ(cut.pose.R, off.pose.R);
+	EXPECT_LE(cutStats.worstFrameNs, static_cast<int64_t>(c.frameBudgetMs) * kMs);
+}
+
 // Inside a budget a view search after the first must leave room for
 // budgetPolishRounds polish rounds after it. With a frame that every search
 // fits but then not the polish, the searches take it all when no room is
