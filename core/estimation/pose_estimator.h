@@ -152,7 +152,7 @@ struct EstimatorConfig {
 	int budgetIterations = 0;
 	// and at most this many re-search rounds (researchRounds; -1: as
 	// without a budget, but not capped by the iterations' bound above).
-	int budgetResearchRounds = 0;
+	int budgetResearchRounds = 1;
 	int budgetDepthWindows = 1;
 	// and parts kept near at most this many (targetParts; 0: as without a
 	// budget): a large object's registration alone overruns 33 ms at 600,
