@@ -122,6 +122,15 @@ protected:
 		return false;
 	}
 
+	// Whether one search's (at most 6) proposals hold the truth (near()).
+	static bool finds(const ViewSearchConfig &cfg, ImageView<const float> view, const CameraIntrinsics &K,
+			  const Eigen::Vector3d &centre, const Pose &truth, double mm, BoxAxes box = {},
+			  float anchor = 0.0f)
+	{
+		ViewProposal top[6];
+		return near(top, searchViews(templates(), cfg, view, K, centre, top, box, anchor), truth, mm);
+	}
+
 	// The window of a box the frame clipped: the object's extent (in `full`)
 	// with its left third cut off by the frame and `margin` of its width
 	// past its right side; rows centred on the principal point as the
@@ -260,9 +269,8 @@ TEST_F(ViewSearchTest, BoxCentringRecoversALateralOffset)
 		const Pose truth = centredPose(rng, depth);
 		const Eigen::Vector3d voted = truth.t + Eigen::Vector3d(25, -20, 10);
 		ImageView<const float> view(depth.data(), K_.width, K_.height, K_.width);
-		ViewProposal top[6];
-		found += near(top, searchViews(templates(), cfg, view, K_, voted, top), truth, 15);
-		foundWithoutBox += near(top, searchViews(templates(), cfg, view, K_, voted, top, BoxAxes{false, false, {}}), truth, 15);
+		found += finds(cfg, view, K_, voted, truth, 15);
+		foundWithoutBox += finds(cfg, view, K_, voted, truth, 15, BoxAxes{false, false, {}});
 	}
 	RecordProperty("found", found);
 	RecordProperty("found_without_box", foundWithoutBox);
@@ -300,11 +308,10 @@ TEST_F(ViewSearchTest, ABoxClippedByTheFrameFindsTheObjectPastItsEdge)
 		const ImageView<const float> view = c.view();
 		const CameraIntrinsics &K = c.K;
 		const Eigen::Vector3d &voted = c.voted;
-		ViewProposal top[6];
 		const BoxAxes clipped{false, true, OpenSides{.left = true}};
-		found += near(top, searchViews(templates(), cfg, view, K, voted, top, clipped), truth, 15);
-		foundAsClosed += near(top, searchViews(templates(), cfg, view, K, voted, top, BoxAxes{false, true, {}}), truth, 15);
-		foundInside += near(top, searchViews(templates(), inside, view, K, voted, top, clipped), truth, 15);
+		found += finds(cfg, view, K, voted, truth, 15, clipped);
+		foundAsClosed += finds(cfg, view, K, voted, truth, 15, BoxAxes{false, true, {}});
+		foundInside += finds(inside, view, K, voted, truth, 15, clipped);
 	}
 	RecordProperty("found", found);
 	RecordProperty("found_as_closed", foundAsClosed);
@@ -333,10 +340,9 @@ TEST_F(ViewSearchTest, AClippedBoxWithAMarginIsSearchedInsideItsEdgeToo)
 		std::vector<float> full;
 		const Pose truth = centredPose(rng, full);
 		const ClippedWindow c = clippedWindow(full, truth, 0.25);
-		ViewProposal top[6];
 		const BoxAxes clipped{false, true, OpenSides{.left = true}};
-		found += near(top, searchViews(templates(), inside, c.view(), c.K, c.voted, top, clipped), truth, 15);
-		foundAtEdge += near(top, searchViews(templates(), edge, c.view(), c.K, c.voted, top, clipped), truth, 15);
+		found += finds(inside, c.view(), c.K, c.voted, truth, 15, clipped);
+		foundAtEdge += finds(edge, c.view(), c.K, c.voted, truth, 15, clipped);
 	}
 	RecordProperty("found", found);
 	RecordProperty("found_at_edge", foundAtEdge);
@@ -461,9 +467,7 @@ TEST_F(ViewSearchTest, DepthAnchorFindsTheRotationWithoutAVotedCentre)
 			for (int x = 0; x < K_.width; ++x)
 				depth[static_cast<size_t>(y) * K_.width + x] = static_cast<float>(truth.t.z() - 150);
 		ImageView<const float> view(depth.data(), K_.width, K_.height, K_.width);
-		ViewProposal top[6];
-		found += near(top, searchViews(templates(), cfg, view, K_, Eigen::Vector3d::Zero(), top, {}, anchor),
-			      truth, 15);
+		found += finds(cfg, view, K_, Eigen::Vector3d::Zero(), truth, 15, {}, anchor);
 	}
 	RecordProperty("found", found);
 	EXPECT_GE(found, trials * 7 / 10);
@@ -552,8 +556,8 @@ TEST_F(ViewSearchTest, LateralClimbUndoesABoxCentreOffByMillimetres)
 		ImageView<const float> view(depth.data(), K_.width, K_.height, K_.width);
 		const Eigen::Vector3d voted(0, 0, truth.t.z() + 10);
 		ViewProposal top[6];
-		found += near(top, searchViews(templates(), climbing, view, K_, voted, top), truth, 6);
-		foundPlain += near(top, searchViews(templates(), plain, view, K_, voted, top), truth, 6);
+		found += finds(climbing, view, K_, voted, truth, 6);
+		foundPlain += finds(plain, view, K_, voted, truth, 6);
 		// Proposals stay best first.
 		const size_t n = searchViews(templates(), climbing, view, K_, voted, top);
 		for (size_t j = 1; j < n; ++j)
@@ -589,9 +593,8 @@ TEST_F(ViewSearchTest, ShiftedPlacementsFindTheObjectOffTheBoxCentre)
 		depth = render(truth);
 		ImageView<const float> view(depth.data(), K_.width, K_.height, K_.width);
 		const Eigen::Vector3d voted(0, 0, truth.t.z() + 10);
-		ViewProposal top[6];
-		found += near(top, searchViews(templates(), shifted, view, K_, voted, top), truth, 8);
-		foundCentred += near(top, searchViews(templates(), centred, view, K_, voted, top), truth, 8);
+		found += finds(shifted, view, K_, voted, truth, 8);
+		foundCentred += finds(centred, view, K_, voted, truth, 8);
 	}
 	RecordProperty("found", found);
 	RecordProperty("found_centred", foundCentred);
