@@ -396,7 +396,21 @@ ViewSearchConfig viewScoring(const EstimatorConfig &config)
 	return vc;
 }
 
+// Proposals a view search returns (ViewSearchConfig::keep).
+size_t viewKeep(const EstimatorConfig &config)
+{
+	return static_cast<size_t>(std::clamp(config.views.keep, 1, kMaxViewKeep));
+}
+
 } // namespace
+
+int64_t PoseEstimator::searchPrediction(const EstimatorConfig &config, int polishRounds)
+{
+	int64_t predicted = searchCosts().bound(Stage::kViews, config.budgetMargin);
+	if (config.icp)
+		predicted += polishRounds * costs_.bound(Stage::kIcp, config.budgetMargin, boxWork_);
+	return predicted;
+}
 
 // A side on the frame border was clipped: that axis' centre is not the
 // object's, and the model may go on past that side unseen.
@@ -441,10 +455,9 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	const double diameter = model.params().diameter;
 	Eigen::Vector3d centres[kMaxCentres];
 	const int nc = keptCentres(diameter, std::clamp(config.views.centres, 1, kMaxCentres), centres);
-	const size_t keepN = static_cast<size_t>(std::clamp(config.views.keep, 1, kMaxViewKeep));
+	const size_t keepN = viewKeep(config);
 	const float same = static_cast<float>(0.05 * diameter);
-	// A lean box's searches are measured apart (leanCosts_).
-	StageCostModel &searchCosts = leanSearch_ ? leanCosts_ : costs_;
+	StageCostModel &searchCosts = this->searchCosts();
 	// One search; its proposals are kept.
 	auto searchAt = [&](const Eigen::Vector3d &centre, float anchor, const char *stage) {
 		const int64_t start = timer_.last();
@@ -463,11 +476,7 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	int searched = 0;
 	auto searchFits = [&]() {
 		const bool first = searched++ == 0;
-		int64_t predicted = searchCosts.bound(Stage::kViews, config.budgetMargin);
-		if (!first && config.icp)
-			predicted += config.views.budgetPolishRounds *
-				     costs_.bound(Stage::kIcp, config.budgetMargin, boxWork_);
-		const bool fits = boxFits(predicted);
+		const bool fits = boxFits(searchPrediction(config, first ? 0 : config.views.budgetPolishRounds));
 		if (!fits && first)
 			searchCosts.refused(Stage::kViews);
 		return fits;
@@ -535,25 +544,17 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 
 PoseEstimator::Hypothesis PoseEstimator::researchAtBest(const CameraIntrinsics &K, const ObjectModel &model,
 							const EstimatorConfig &config, const Hypothesis &best,
-							int &rounds)
+							int maxRounds, int &rounds)
 {
-	const size_t keepN = static_cast<size_t>(std::clamp(config.views.keep, 1, kMaxViewKeep));
+	const size_t keepN = viewKeep(config);
 	const size_t polishN = std::min(keepN, static_cast<size_t>(std::max(0, config.researchPolish)));
 	const size_t round = static_cast<size_t>(workers_.threads());
 	const double same = 0.05 * model.params().diameter;
-	StageCostModel &searchCosts = leanSearch_ ? leanCosts_ : costs_;
+	// The search and its polish rounds must fit.
+	const int polishRounds = static_cast<int>((polishN + round - 1) / round);
 	Hypothesis winner = best;
-	// Unbudgeted, at most k rounds; a budget's config is bounded already
-	// (underBudget()).
-	const int maxRounds =
-		budget_.unlimited() ? std::min(config.researchRounds, config.iterations) : config.researchRounds;
 	for (rounds = 0; rounds < maxRounds;) {
-		// The search and its polish rounds must fit.
-		const int64_t polishRounds = static_cast<int64_t>((polishN + round - 1) / round);
-		const int64_t predicted = searchCosts.bound(Stage::kViews, config.budgetMargin) +
-					  (config.icp ? polishRounds * costs_.bound(Stage::kIcp, config.budgetMargin, boxWork_)
-						      : 0);
-		if (!boxFits(predicted)) {
+		if (!boxFits(searchPrediction(config, polishRounds))) {
 			++researchesSkipped_;
 			break;
 		}
@@ -563,7 +564,7 @@ PoseEstimator::Hypothesis PoseEstimator::researchAtBest(const CameraIntrinsics &
 		Hypothesis found[kMaxViewKeep];
 		const size_t n = searchScored(K, model, config, winner.pose.t, 0.0f, "research",
 					      std::span<Hypothesis>(found, keepN));
-		searchCosts.observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
+		searchCosts().observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
 		// Every proposal competes; those that are not the best itself,
 		// best first (as the search returns them), are polished in rounds
 		// of the pool's threads.
@@ -1256,11 +1257,9 @@ int underBound(int own, int budget)
 
 EstimatorConfig underBudget(EstimatorConfig c)
 {
-	// The re-search is refinement's (none at k = 0), bounded apart from the
-	// forest's re-votes; past this the rounds are not capped by k.
-	if (c.iterations == 0)
-		c.researchRounds = 0;
-	else if (c.budgetResearchRounds >= 0)
+	// Bounded apart from the forest's re-votes: the iterations' bound below
+	// does not bound the re-search (estimate() caps it by the requested k).
+	if (c.budgetResearchRounds >= 0)
 		c.researchRounds = std::min(c.researchRounds, c.budgetResearchRounds);
 	if (c.budgetIterations >= 0)
 		c.iterations = std::min(c.iterations, c.budgetIterations);
@@ -1564,8 +1563,11 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		// under the cloud stage on one thread, under ICP on more).
 		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart, boxWork_);
 	}
-	if (config.researchRounds > 0 && polishCount > 0 && viewSearchSize(model.viewTemplates(), config.views) > 0) {
-		const Hypothesis refined = researchAtBest(vk, model, config, best, out.researches);
+	// Refinement's (none at k = 0): at most the requested k rounds, whatever
+	// the budget's bound on the iterations.
+	const int researchRounds = std::min(config.researchRounds, requested.iterations);
+	if (researchRounds > 0 && polishCount > 0 && viewSearchSize(model.viewTemplates(), config.views) > 0) {
+		const Hypothesis refined = researchAtBest(vk, model, config, best, researchRounds, out.researches);
 		if (refined.score.score > best.score.score) {
 			best = refined;
 			out.icpApplied = true;

@@ -151,7 +151,8 @@ struct EstimatorConfig {
 	// stay anytime whatever the bound.
 	int budgetIterations = 0;
 	// and at most this many re-search rounds (researchRounds; -1: as
-	// without a budget, but not capped by the iterations' bound above).
+	// without a budget). Not capped by the iterations' bound above: only
+	// by the requested k.
 	int budgetResearchRounds = 1;
 	int budgetDepthWindows = 1;
 	// and parts kept near at most this many (targetParts; 0: as without a
@@ -426,11 +427,16 @@ private:
 	// (at most out.size()).
 	size_t searchScored(const CameraIntrinsics &K, const ObjectModel &model, const EstimatorConfig &config,
 			    const Eigen::Vector3d &centre, float anchor, const char *stage, std::span<Hypothesis> out);
-	// Refinement's re-search rounds (EstimatorConfig::researchRounds) from
-	// `best`; returns the best hypothesis found, `best` when none is
-	// better. Each round must fit the budget.
+	// Refinement's re-search, at most maxRounds rounds from `best` (`rounds`
+	// gets how many ran); returns the best hypothesis found, `best` when none
+	// is better. Each round must fit the budget.
 	Hypothesis researchAtBest(const CameraIntrinsics &K, const ObjectModel &model, const EstimatorConfig &config,
-				  const Hypothesis &best, int &rounds);
+				  const Hypothesis &best, int maxRounds, int &rounds);
+	// A lean box's searches are measured apart (leanCosts_).
+	StageCostModel &searchCosts() { return leanSearch_ ? leanCosts_ : costs_; }
+	// The predicted cost of a view search and polishRounds ICP rounds
+	// after it (none without ICP).
+	int64_t searchPrediction(const EstimatorConfig &config, int polishRounds);
 	// Half-turns of the best distinct polished hypotheses (half_turns.h)
 	// about the model's box centre; returns the best found, or `best` when
 	// none scores higher.

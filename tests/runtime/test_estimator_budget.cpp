@@ -314,6 +314,14 @@ TEST_F(EstimatorBudget, TheResearchRunsOnlyIfItFits)
 	EXPECT_EQ(onStats.researches, 1u);
 	EXPECT_GT(onStats.worstFrameNs, offStats.worstFrameNs);
 
+	// Refinement's: none at k = 0 whatever the budget's bound.
+	EstimatorConfig registrationOnly = c;
+	registrationOnly.iterations = 0;
+	auto [none, noneStats] = runFresh(registrationOnly);
+	ASSERT_TRUE(none.found) << none.reason;
+	EXPECT_EQ(none.researches, 0);
+	EXPECT_EQ(noneStats.researches + noneStats.researchesSkipped, 0u);
+
 	c.frameBudgetMs = static_cast<float>(offStats.worstFrameNs / kMs + 1);
 	auto [cut, cutStats] = runFresh(c);
 	ASSERT_TRUE(cut.found) << cut.reason;
