@@ -205,6 +205,7 @@ BENCHMARK(BM_EstimateBox)
 	->Args({0, 1, 0, 2})
 	->Args({5, 1, 0, 2})
 	->Args({5, 1, 33, 2})
+	->Args({5, 1, 10, 2})
 	->Iterations(100)
 	->Unit(benchmark::kMillisecond);
 

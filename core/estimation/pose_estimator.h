@@ -148,7 +148,10 @@ struct EstimatorConfig {
 	// depth slabs (-1: as without a budget; the view search has its own,
 	// ViewSearchConfig::budget*). On a 33 ms frame their time buys more in
 	// the view search and ICP (BENCHMARKS.md, session 12); the iterations
-	// stay anytime whatever the bound.
+	// stay anytime whatever the bound, each only if the view searches, the
+	// polish and the re-search still fit after it (session 35, -1, 10 ms,
+	// syn200 ape: 0.370 with room kept for one polish round alone, 0.895
+	// with the searches'; BENCHMARKS.md).
 	int budgetIterations = 0;
 	// and at most this many re-search rounds (researchRounds; -1: as
 	// without a budget). Not capped by the iterations' bound above: only
@@ -569,6 +572,9 @@ private:
 	std::span<int> windowHist_;
 	std::span<DepthWindow> windows_;
 	size_t windowCount_ = 0; // of the current box
+	// What the current box runs after its vote passes: view searches, polish rounds.
+	int plannedSearches_ = 0;
+	int plannedPolishRounds_ = 0;
 	std::span<DepthWindow> anchorWindows_; // the view search's own, when thinner
 	std::span<ViewCoarseCandidate> viewHeaps_; // the view search's, per thread
 	std::span<ViewFineResult> viewFine_;

@@ -396,6 +396,78 @@ TEST_F(EstimatorBudget, LaterViewSearchesLeaveRoomForThePolish)
 	}
 }
 
+// Inside a budget a refinement iteration runs only if what follows it still
+// fits: the view searches, the polish and the re-search (iterations that
+// took their time left the ape 0.370 mean F1 at 10 ms, 0.895 without,
+// BENCHMARKS.md, session 35). Over the frames from the box without the
+// iteration to the box with it, all of those run in a shorter frame than
+// the iteration first runs in; with room for all, it runs and so do they.
+TEST_F(EstimatorBudget, AnIterationLeavesRoomForTheSearchesAndThePolish)
+{
+	ObjectModel &model = *model_->model;
+	const WithViewTemplates views(model);
+	const DepthImageMm depth = withWall();
+	for (const int research : {0, 1}) {
+		SCOPED_TRACE(research ? "with the re-search" : "without the re-search");
+		EstimatorConfig c = config(1, 0.0f, true);
+		c.halfTurns.candidates = 0;
+		c.budgetResearchRounds = research;
+		c.researchPolish = 1;
+		c.views.inplane = 6;
+		c.views.depthCentres = c.views.budgetDepthCentres = 2;
+		c.views.budgetPolishRounds = 1; // as the iteration keeps room for
+		test::StepClock clock(kMs);
+		PoseEstimator e({}, &clock);
+		auto calls = [&](Stage stage) { return e.stats().stages[static_cast<int>(stage)].calls; };
+		auto runIn = [&](const EstimatorConfig &cfg, float budgetMs) {
+			e.beginFrame(1, budgetMs);
+			PoseEstimate r = e.estimate(depth.view(), test::kKinect, box_, model, cfg);
+			e.endFrame();
+			return r;
+		};
+		// With ample room, without and with the iteration: the searches
+		// and what the box costs (the budget's checks read the clock too).
+		EstimatorConfig noIteration = c;
+		noIteration.budgetIterations = 0;
+		PoseEstimate r = runIn(noIteration, 1e6f);
+		ASSERT_TRUE(r.found) << r.reason;
+		ASSERT_EQ(r.researches, research);
+		const uint64_t searches = calls(Stage::kViews);
+		ASSERT_GE(searches, 2u + research) << "the wall gives a depth centre besides the voted one";
+		const int64_t without = e.stats().worstFrameNs;
+		r = runIn(c, 1e6f);
+		ASSERT_TRUE(r.found) << r.reason;
+		ASSERT_EQ(r.iterationsDone, 1);
+		const int64_t with = e.stats().worstFrameNs;
+		ASSERT_GE(with - without, 4 * kMs);
+
+		int64_t allRan = -1, iterated = -1; // the shortest frames (ms)
+		for (int64_t ms = without / kMs; ms <= with / kMs; ++ms) {
+			const uint64_t views0 = calls(Stage::kViews), icp0 = calls(Stage::kIcp);
+			r = runIn(c, static_cast<float>(ms));
+			ASSERT_TRUE(r.found) << r.reason;
+			if (allRan < 0 && calls(Stage::kViews) - views0 == searches && calls(Stage::kIcp) > icp0 &&
+			    r.researches == research)
+				allRan = ms;
+			if (iterated < 0 && r.iterationsDone == 1)
+				iterated = ms;
+		}
+		EXPECT_EQ(e.stats().frameOverruns, 0u);
+		ASSERT_GE(allRan, 0);
+		ASSERT_GE(iterated, 0);
+		EXPECT_LT(allRan, iterated);
+
+		const uint64_t views0 = calls(Stage::kViews);
+		r = runIn(c, static_cast<float>((with + 4 * kMs) / kMs));
+		ASSERT_TRUE(r.found) << r.reason;
+		EXPECT_EQ(r.iterationsDone, 1);
+		EXPECT_EQ(calls(Stage::kViews) - views0, searches);
+		EXPECT_EQ(r.researches, research);
+		EXPECT_FALSE(r.icpSkipped);
+		EXPECT_EQ(e.stats().frameOverruns, 0u);
+	}
+}
+
 // The half-turns of the polished best run under the budget too: with room
 // they run, and their best can only raise the score; without room none runs.
 // Under a budget the depth centres are searched before the voted centre
