@@ -17,6 +17,15 @@ namespace ihf {
 
 namespace {
 
+// Voted translations a box searches at most (ViewSearchConfig::centres).
+constexpr int kMaxViewCentres = 4;
+
+// Proposals a view search returns (ViewSearchConfig::keep).
+size_t viewKeep(const EstimatorConfig &config)
+{
+	return static_cast<size_t>(std::clamp(config.views.keep, 1, kMaxViewKeep));
+}
+
 // Two hypotheses are one when within sameTranslationMm and 10 deg.
 bool samePose(const Pose &a, const Pose &b, double sameTranslationMm)
 {
@@ -204,6 +213,29 @@ bool PoseEstimator::refinementFits(const EstimatorConfig &config)
 		       plannedPolishRounds_ * costs_.bound(Stage::kIcp, config.budgetMargin, boxWork_));
 }
 
+// What the box runs after its vote passes, for refinementFits(): the
+// searches at the voted centres and the dense slabs (not the thinner slabs
+// the search may add), the polish rounds, and the re-search with its rounds.
+void PoseEstimator::planAfterPasses(const EstimatorConfig &config, int requestedIterations,
+				    const ObjectModel &model)
+{
+	const bool views = viewSearchSize(model.viewTemplates(), config.views) > 0;
+	const bool research = views && std::min(config.researchRounds, requestedIterations) > 0;
+	const int threads = workers_.threads();
+	auto rounds = [threads](int polishes) { return (std::max(0, polishes) + threads - 1) / threads; };
+	plannedSearches_ = 0;
+	if (views)
+		plannedSearches_ = std::clamp(config.views.centres, 1, kMaxViewCentres) +
+				   static_cast<int>(std::min(windowCount_, static_cast<size_t>(std::max(
+										   0, config.views.depthCentres)))) +
+				   research;
+	plannedPolishRounds_ = 0;
+	if (config.icp)
+		plannedPolishRounds_ =
+			std::max(1, rounds(config.icpCandidates)) +
+			(research ? rounds(std::min(static_cast<int>(viewKeep(config)), config.researchPolish)) : 0);
+}
+
 // Whether a refinement iteration or candidate search still fits; a box is
 // counted as cut short once, whichever stage the budget refused.
 bool PoseEstimator::boxFits(int64_t predictedNs)
@@ -389,9 +421,6 @@ int PoseEstimator::keptCentres(double diameter, int max, Eigen::Vector3d *centre
 
 namespace {
 
-// Voted translations a box searches at most (ViewSearchConfig::centres).
-constexpr int kMaxViewCentres = 4;
-
 // The view search's settings with the score's weights: its sparse score
 // ranks by the same rule as the full one.
 ViewSearchConfig viewScoring(const EstimatorConfig &config)
@@ -401,12 +430,6 @@ ViewSearchConfig viewScoring(const EstimatorConfig &config)
 	vc.occludedWeight = config.score.occludedWeight;
 	vc.residualWeight = config.score.residualWeight;
 	return vc;
-}
-
-// Proposals a view search returns (ViewSearchConfig::keep).
-size_t viewKeep(const EstimatorConfig &config)
-{
-	return static_cast<size_t>(std::clamp(config.views.keep, 1, kMaxViewKeep));
 }
 
 } // namespace
@@ -1420,23 +1443,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 						static_cast<float>(config.depthWindowWidth * params.diameter),
 						windowHist_, windows_.first(std::min(windows_.size(), windowsWanted)));
 	const size_t windows = std::min(windowCount_, static_cast<size_t>(std::max(0, config.depthWindows)));
-	// What runs after the vote passes: the searches at the voted centres and
-	// the dense slabs (not the thinner slabs the search may add), the polish
-	// rounds and the re-search with its rounds.
-	const bool views = viewSearchSize(model.viewTemplates(), config.views) > 0;
-	const bool research = views && std::min(config.researchRounds, requested.iterations) > 0;
-	const int threads = workers_.threads();
-	auto rounds = [threads](int polishes) { return (std::max(0, polishes) + threads - 1) / threads; };
-	plannedSearches_ = views ? std::clamp(config.views.centres, 1, kMaxViewCentres) +
-					   static_cast<int>(std::min(windowCount_,
-								     static_cast<size_t>(std::max(0, config.views.depthCentres)))) +
-					   research
-				 : 0;
-	plannedPolishRounds_ = config.icp ? std::max(1, rounds(config.icpCandidates)) +
-						    (research ? rounds(std::min(static_cast<int>(viewKeep(config)),
-										config.researchPolish))
-							      : 0)
-					  : 0;
+	planAfterPasses(config, requested.iterations, model);
 	UnitCubeFrame cube;
 	bool haveFrame = false;
 	// The forest's own bests, of the registration and of the last

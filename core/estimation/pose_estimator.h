@@ -518,6 +518,7 @@ private:
 	bool carveBox(A &arena, size_t pixels);
 	void releaseBox();
 	int64_t passCost(double margin) const;
+	void planAfterPasses(const EstimatorConfig &config, int requestedIterations, const ObjectModel &model);
 	bool refinementFits(const EstimatorConfig &config);
 	bool icpFits(double margin);
 	bool fitsBudget(int64_t predictedNs, uint64_t &refusals);
