@@ -5,6 +5,7 @@
 #include "core/ibs/ibs_fitter.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace ihf {
 
@@ -128,10 +129,13 @@ Status IbsFitter::buildActiveSet()
 {
 	const int cap = static_cast<int>(active_.size());
 	int count = 0;
+	int32_t first = std::numeric_limits<int32_t>::max(), last = -1;
 	for (int ci = 0; ci < constraintCount_; ++ci) {
 		const Constraint &c = constraints_[ci];
 		for (int col = 0; col < 16; ++col) {
 			const int32_t base = c.column[col];
+			first = std::min(first, base);
+			last = std::max(last, base + 3);
 			for (int p = 0; p < 4; ++p) {
 				int32_t &slot = map_[base + p];
 				if (slot != -1)
@@ -147,9 +151,14 @@ Status IbsFitter::buildActiveSet()
 		}
 	}
 	activeCount_ = count;
-	std::sort(active_.begin(), active_.begin() + count);
-	for (int a = 0; a < count; ++a)
-		map_[active_[a]] = a;
+	// The marked nodes in node order: a scan of their range, not a sort
+	// (the sort was ~15 % of a fit; session 35: a fit 10 % faster).
+	int a = 0;
+	for (int32_t node = first; node <= last; ++node)
+		if (map_[node] == -2) {
+			map_[node] = a;
+			active_[a++] = node;
+		}
 	for (int ci = 0; ci < constraintCount_; ++ci) {
 		Constraint &c = constraints_[ci];
 		for (int col = 0; col < 16; ++col)
