@@ -26,6 +26,28 @@ size_t viewKeep(const EstimatorConfig &config)
 	return static_cast<size_t>(std::clamp(config.views.keep, 1, kMaxViewKeep));
 }
 
+// Voted translations searched (ViewSearchConfig::centres), at most.
+int votedCentres(const EstimatorConfig &config)
+{
+	return std::clamp(config.views.centres, 1, kMaxViewCentres);
+}
+
+// Proposals of a re-search round that are polished.
+size_t researchPolished(const EstimatorConfig &config)
+{
+	return std::min(viewKeep(config), static_cast<size_t>(std::max(0, config.researchPolish)));
+}
+
+// Refinement's re-search rounds (none at k = 0): at most the requested k,
+// whatever the budget's bound on the iterations; none without the view
+// search.
+int researchRounds(const EstimatorConfig &config, int requestedIterations, const ObjectModel &model)
+{
+	if (!(viewSearchSize(model.viewTemplates(), config.views) > 0))
+		return 0;
+	return std::max(0, std::min(config.researchRounds, requestedIterations));
+}
+
 // Two hypotheses are one when within sameTranslationMm and 10 deg.
 bool samePose(const Pose &a, const Pose &b, double sameTranslationMm)
 {
@@ -220,20 +242,23 @@ void PoseEstimator::planAfterPasses(const EstimatorConfig &config, int requested
 				    const ObjectModel &model)
 {
 	const bool views = viewSearchSize(model.viewTemplates(), config.views) > 0;
-	const bool research = views && std::min(config.researchRounds, requestedIterations) > 0;
-	const int threads = workers_.threads();
-	auto rounds = [threads](int polishes) { return (std::max(0, polishes) + threads - 1) / threads; };
+	const bool research = researchRounds(config, requestedIterations, model) > 0;
 	plannedSearches_ = 0;
 	if (views)
-		plannedSearches_ = std::clamp(config.views.centres, 1, kMaxViewCentres) +
+		plannedSearches_ = votedCentres(config) +
 				   static_cast<int>(std::min(windowCount_, static_cast<size_t>(std::max(
 										   0, config.views.depthCentres)))) +
 				   research;
 	plannedPolishRounds_ = 0;
 	if (config.icp)
-		plannedPolishRounds_ =
-			std::max(1, rounds(config.icpCandidates)) +
-			(research ? rounds(std::min(static_cast<int>(viewKeep(config)), config.researchPolish)) : 0);
+		plannedPolishRounds_ = std::max(1, polishRounds(static_cast<size_t>(std::max(0, config.icpCandidates)))) +
+				       (research ? polishRounds(researchPolished(config)) : 0);
+}
+
+int PoseEstimator::polishRounds(size_t polishes) const
+{
+	const size_t threads = static_cast<size_t>(workers_.threads());
+	return static_cast<int>((polishes + threads - 1) / threads);
 }
 
 // Whether a refinement iteration or candidate search still fits; a box is
@@ -483,7 +508,7 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 {
 	const double diameter = model.params().diameter;
 	Eigen::Vector3d centres[kMaxViewCentres];
-	const int nc = keptCentres(diameter, std::clamp(config.views.centres, 1, kMaxViewCentres), centres);
+	const int nc = keptCentres(diameter, votedCentres(config), centres);
 	const size_t keepN = viewKeep(config);
 	const float same = static_cast<float>(0.05 * diameter);
 	StageCostModel &searchCosts = this->searchCosts();
@@ -576,14 +601,13 @@ PoseEstimator::Hypothesis PoseEstimator::researchAtBest(const CameraIntrinsics &
 							int maxRounds, int &rounds)
 {
 	const size_t keepN = viewKeep(config);
-	const size_t polishN = std::min(keepN, static_cast<size_t>(std::max(0, config.researchPolish)));
+	const size_t polishN = researchPolished(config);
 	const size_t round = static_cast<size_t>(workers_.threads());
 	const double same = 0.05 * model.params().diameter;
-	// The search and its polish rounds must fit.
-	const int polishRounds = static_cast<int>((polishN + round - 1) / round);
 	Hypothesis winner = best;
 	for (rounds = 0; rounds < maxRounds;) {
-		if (!boxFits(searchPrediction(config, polishRounds))) {
+		// The search and its polish rounds must fit.
+		if (!boxFits(searchPrediction(config, polishRounds(polishN)))) {
 			++researchesSkipped_;
 			break;
 		}
@@ -1593,11 +1617,10 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		// under the cloud stage on one thread, under ICP on more).
 		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart, boxWork_);
 	}
-	// Refinement's (none at k = 0): at most the requested k rounds, whatever
-	// the budget's bound on the iterations.
-	const int researchRounds = std::min(config.researchRounds, requested.iterations);
-	if (researchRounds > 0 && polishCount > 0 && viewSearchSize(model.viewTemplates(), config.views) > 0) {
-		const Hypothesis refined = researchAtBest(vk, model, config, best, researchRounds, out.researches);
+	// Refinement's re-search.
+	const int research = researchRounds(config, requested.iterations, model);
+	if (research > 0 && polishCount > 0) {
+		const Hypothesis refined = researchAtBest(vk, model, config, best, research, out.researches);
 		if (refined.score.score > best.score.score) {
 			best = refined;
 			out.icpApplied = true;

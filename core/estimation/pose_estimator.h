@@ -519,6 +519,8 @@ private:
 	void releaseBox();
 	int64_t passCost(double margin) const;
 	void planAfterPasses(const EstimatorConfig &config, int requestedIterations, const ObjectModel &model);
+	// Rounds of the pool's threads that polish this many hypotheses.
+	int polishRounds(size_t polishes) const;
 	bool refinementFits(const EstimatorConfig &config);
 	bool icpFits(double margin);
 	bool fitsBudget(int64_t predictedNs, uint64_t &refusals);
