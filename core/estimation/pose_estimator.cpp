@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "core/estimation/forest_walker.h"
+#include "core/estimation/icp_polisher.h"
 #include "core/estimation/virtual_crop.h"
 #include "core/features/depth_cloud.h"
 #include "core/features/part_units.h"
@@ -673,12 +674,12 @@ PoseEstimator::Hypothesis PoseEstimator::icpAndScore(const Hypothesis &h, std::s
 						     const CameraIntrinsics &K, const ObjectModel &model,
 						     const EstimatorConfig &config, int slot, const IcpConfig &icpConfig)
 {
-	IcpResult icp = refineIcp(cloud, model.renderMesh(), h.pose, K, rendererOf(slot), renderViewOf(slot),
-				  icpConfig);
+	const PolishResult polished =
+		polishFromCloud(scoreWindow(K, config), model, h.pose, cloud, icpConfig, rendererOf(slot), renderViewOf(slot));
 	Hypothesis out;
-	if (icp.iterations > 0) {
-		out.pose = icp.pose;
-		out.score = score(icp.pose, K, model, config, slot);
+	if (polished.valid) {
+		out.pose = polished.pose;
+		out.score = polished.score;
 		out.iteration = h.iteration;
 		out.valid = true;
 	}
@@ -700,16 +701,19 @@ PoseEstimator::Hypothesis PoseEstimator::polishIcpIn(const Hypothesis &h, const 
 {
 	const size_t pixels = static_cast<size_t>(observedView_.width) * observedView_.height;
 	const size_t at = pixels * static_cast<size_t>(std::max(0, slot - 1));
-	const std::span<float> mask = slot == 0 ? working_.first(pixels) : moreWorking_.subspan(at, pixels);
-	const std::span<CloudPoint> cloud = slot == 0 ? cloud_.first(pixels) : moreClouds_.subspan(at, pixels);
-	// maskToHypothesis() and buildCloud() into the slot's buffers, without
-	// the clock.
-	maskToRange(h.score.depthMin * config.psi1, h.score.depthMax * config.psi2, mask);
-	const ImageView<float> maskView(mask.data(), observedView_.width, observedView_.height, observedView_.width);
-	auto points = cloudFromDepth(maskView, K, PixelBox{0, 0, maskView.width, maskView.height},
-				     model.params().cloud, cloud);
-	const int n = points ? *points : 0;
-	return icpAndScore(h, cloud.first(static_cast<size_t>(n)), K, model, config, slot, icp);
+	const PolishBuffers buffers{slot == 0 ? working_.first(pixels) : moreWorking_.subspan(at, pixels),
+				    slot == 0 ? cloud_.first(pixels) : moreClouds_.subspan(at, pixels), &rendererOf(slot),
+				    renderViewOf(slot)};
+	const PolishResult polished = polishInWindow(scoreWindow(K, config), model, h.pose, h.score.depthMin * config.psi1,
+						     h.score.depthMax * config.psi2, icp, buffers);
+	Hypothesis out;
+	if (polished.valid) {
+		out.pose = polished.pose;
+		out.score = polished.score;
+		out.iteration = h.iteration;
+		out.valid = true;
+	}
+	return out;
 }
 
 // Renders the pose into renderView_ and calls f with every covered pixel
@@ -1096,9 +1100,12 @@ int PoseEstimator::voteOnce(const CameraIntrinsics &K, const ObjectModel &model,
 
 bool PoseEstimator::renderPose(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model, int slot)
 {
-	ImageView<float> &view = renderViewOf(slot);
-	view.fill(0.0f);
-	return static_cast<bool>(rendererOf(slot).render(model.renderMesh(), pose, K, view));
+	return renderModel(rendererOf(slot), renderViewOf(slot), model, pose, K);
+}
+
+ScoreWindow PoseEstimator::scoreWindow(const CameraIntrinsics &K, const EstimatorConfig &config) const
+{
+	return ScoreWindow{observedView_, K, openSides_, &config.score};
 }
 
 void PoseEstimator::setCulling(const ObjectModel &model, const EstimatorConfig &config)
@@ -1131,13 +1138,7 @@ void PoseEstimator::scoreAll(std::span<const Pose> poses, std::span<HypothesisSc
 HypothesisScore PoseEstimator::score(const Pose &pose, const CameraIntrinsics &K,
 				     const ObjectModel &model, const EstimatorConfig &config, int slot)
 {
-	if (!renderPose(pose, K, model, slot))
-		return {};
-	HypothesisScore s = scoreHypothesis(observedView_, renderViewOf(slot), config.score);
-	s.boxFactor = boxAgreement(model.renderMesh(), pose, K, config.score,
-				   occludedSides(observedView_, renderViewOf(slot), config.score, openSides_));
-	s.score = s.depthScore * s.boxFactor;
-	return s;
+	return scoreInWindow(scoreWindow(K, config), rendererOf(slot), renderViewOf(slot), model, pose);
 }
 
 // Scores every vote mode (translation modes x their rotation modes), keeps
@@ -1219,11 +1220,7 @@ void PoseEstimator::maskToRange(float lo, float hi)
 
 void PoseEstimator::maskToRange(float lo, float hi, std::span<float> out) const
 {
-	const size_t n = static_cast<size_t>(observedView_.width) * observedView_.height;
-	for (size_t i = 0; i < n; ++i) {
-		float d = observed_[i];
-		out[i] = (d > lo && d < hi) ? d : 0.0f;
-	}
+	cutToDepthRange(observedView_, lo, hi, out);
 }
 
 Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const CameraIntrinsics &K,

@@ -40,6 +40,7 @@
 #include "core/estimation/estimator_stats.h"
 #include "core/estimation/hypothesis_score.h"
 #include "core/estimation/icp_refiner.h"
+#include "core/estimation/pose_scorer.h"
 #include "core/estimation/rival_poses.h"
 #include "core/features/cloud_point.h"
 #include "core/features/part_extractor.h"
@@ -461,6 +462,8 @@ private:
 	// slot: the renderer and render buffer of one pool thread (0: the
 	// caller's, renderView_), so that threads can score side by side.
 	bool renderPose(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model, int slot = 0);
+	// The current box's window as the scorer sees it.
+	ScoreWindow scoreWindow(const CameraIntrinsics &K, const EstimatorConfig &config) const;
 	template <typename F>
 	bool forEachShownPoint(const Pose &pose, const CameraIntrinsics &K, const ObjectModel &model, F &&f,
 			       int slot = 0);
