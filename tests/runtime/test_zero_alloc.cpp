@@ -20,6 +20,8 @@
 
 #include "core/dataset/bop_dataset.h"
 #include "core/estimation/pose_estimator.h"
+#include "core/geometry/rotation.h"
+#include "core/tracking/stream_estimator.h"
 #include "core/training/view_template_builder.h"
 #include "core/features/part_extractor.h"
 #include "core/features/unit_cube_frame.h"
@@ -300,6 +302,86 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 		std::printf("  %-13s %8.1f ms in %llu calls\n", stageName(static_cast<Stage>(i)),
 			    1e-6 * static_cast<double>(s.stages[i].totalNs),
 			    static_cast<unsigned long long>(s.stages[i].calls));
+}
+
+// Tracking: a stream of moving objects, tracked from frame to frame, with
+// detections (the first frames, a box that appears, an object turned in
+// place), deferred detections in budgeted frames, a duplicate box, a box
+// without depth and frames without boxes; nothing allocates.
+TEST(ZeroAllocation, StreamOfTrackedFramesAllocatesNothing)
+{
+	test::SmallModel ape = test::trainSmallModel(1, 11, 20, 2);
+	ASSERT_TRUE(ape.model);
+	auto pts = buildViewTemplatePoints(ape.model->mesh(), ape.model->params().diameter, {40, 32});
+	ASSERT_TRUE(pts.ok());
+	ape.model->attachViewTemplates(40, 32, std::move(*pts));
+
+	constexpr int kWarmUp = 3, kFrames = 40;
+	const Pose a0 = test::viewAt(ape, 37, {-100, -20, 800}), b0 = test::viewAt(ape, 12, {110, 40, 780});
+	struct StreamFrame {
+		DepthImageMm depth{640, 480, 0.0f};
+		std::vector<StreamBox> boxes;
+	};
+	// Rendered before the window: the frames themselves are the sensor's.
+	std::vector<StreamFrame> frames(kWarmUp + kFrames);
+	for (int f = 0; f < kWarmUp + kFrames; ++f) {
+		StreamFrame &fr = frames[static_cast<size_t>(f)];
+		const double turn = (f == 25 ? 150.0 : 0.0) + 1.0 * f;
+		Pose a = a0;
+		a.R = Eigen::AngleAxisd(turn * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix() * a0.R;
+		a.t += Eigen::Vector3d(2.0, 1.0, 0.0) * f;
+		Pose b = b0;
+		b.t += Eigen::Vector3d(-1.5, 0.5, 1.0) * f;
+		const PixelBox boxA = test::renderInto(*ape.model, a, fr.depth);
+		const PixelBox boxB = test::renderInto(*ape.model, b, fr.depth);
+		for (float &d : std::span<float>(fr.depth.view().data, 640 * 480))
+			d = d > 0 ? d : 1000.0f;
+		if (f % 10 == 7)
+			continue; // the detector saw nothing
+		fr.boxes.push_back({1, boxA, 0, ape.model.get()});
+		if (f >= 5)
+			fr.boxes.push_back({1, boxB, 0, ape.model.get()}); // appears at frame 5
+		if (f % 6 == 0)
+			fr.boxes.push_back({1, boxA, 0, ape.model.get()}); // repeated
+		if (f % 9 == 0)
+			fr.boxes.push_back({1, PixelBox{0, 0, 4, 4}, 0, ape.model.get()}); // no depth
+	}
+
+	EstimatorLimits limits;
+	limits.maxMeshVertices = ape.model->mesh().vertices.size();
+	PoseEstimator estimator(limits);
+	ASSERT_TRUE(estimator.valid());
+	StreamEstimator stream(estimator, TrackerConfig{});
+	ASSERT_TRUE(stream.valid());
+	EstimatorConfig cfg;
+	cfg.iterations = 1;
+	cfg.icpCandidates = 4;
+	cfg.halfTurns.candidates = 0;
+	cfg.partStride = 8;
+	std::array<StreamResult, 8> results;
+	uint64_t windowStart = 0;
+	for (int f = 0; f < kWarmUp + kFrames; ++f) {
+		if (f == kWarmUp) {
+			windowStart = test::heapAllocations();
+			Eigen::internal::set_is_malloc_allowed(false);
+		}
+		const StreamFrame &fr = frames[static_cast<size_t>(f)];
+		// Some frames inside a budget too short for every detection.
+		const float budget = f % 4 == 3 ? 15.0f : 0.0f;
+		stream.estimateFrame(static_cast<uint64_t>(f), fr.depth.view(), test::kKinect, fr.boxes, cfg, budget,
+				     std::span<StreamResult>(results.data(), fr.boxes.size()));
+	}
+	Eigen::internal::set_is_malloc_allowed(true);
+	const uint64_t allocations = test::heapAllocations() - windowStart;
+	EXPECT_EQ(allocations, 0u) << "heap allocations in " << kFrames << " tracked frames";
+	const TrackingStats &t = stream.stats();
+	EXPECT_GT(t.tracked, static_cast<uint64_t>(kFrames));
+	EXPECT_GE(t.detected, 3u);
+	EXPECT_GT(t.duplicates, 0u);
+	std::printf("tracked %llu detected %llu re-detected %llu deferred %llu duplicates %llu lost %llu\n",
+		    static_cast<unsigned long long>(t.tracked), static_cast<unsigned long long>(t.detected),
+		    static_cast<unsigned long long>(t.redetected), static_cast<unsigned long long>(t.deferred),
+		    static_cast<unsigned long long>(t.duplicates), static_cast<unsigned long long>(t.lost));
 }
 
 } // namespace

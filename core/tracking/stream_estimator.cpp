@@ -1,0 +1,426 @@
+// SPDX-License-Identifier: MIT
+#include "core/tracking/stream_estimator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Geometry>
+
+#include "core/geometry/fixed_order.h"
+
+namespace ihf {
+
+namespace {
+
+// Boxes this close (IoU) on the same object are one box given twice.
+constexpr double kDuplicateIou = 0.7;
+
+double iou(const PixelBox &a, double x0, double y0, double x1, double y1)
+{
+	const double ix = std::max(0.0, std::min<double>(a.x + a.w, x1) - std::max<double>(a.x, x0));
+	const double iy = std::max(0.0, std::min<double>(a.y + a.h, y1) - std::max<double>(a.y, y0));
+	const double inter = ix * iy;
+	const double uni = static_cast<double>(a.w) * a.h + (x1 - x0) * (y1 - y0) - inter;
+	return uni > 0 ? inter / uni : 0.0;
+}
+
+double iou(const PixelBox &a, const PixelBox &b)
+{
+	return iou(a, b.x, b.y, static_cast<double>(b.x) + b.w, static_cast<double>(b.y) + b.h);
+}
+
+// The image box of the model at `pose` (at most ~256 strided vertices);
+// false when part of it lies behind the camera.
+bool projectedBox(const Mesh &mesh, const Pose &pose, const CameraIntrinsics &K, double box[4])
+{
+	if (mesh.vertices.empty())
+		return false;
+	const size_t stride = std::max<size_t>(1, mesh.vertices.size() / 256);
+	const Eigen::Matrix3f R = pose.R.cast<float>();
+	const Eigen::Vector3f t = pose.t.cast<float>();
+	double u0 = std::numeric_limits<double>::max(), v0 = u0, u1 = -u0, v1 = -u0;
+	for (size_t i = 0; i < mesh.vertices.size(); i += stride) {
+		const Eigen::Vector3f x = transformFixedOrder(R, mesh.vertices[i], t);
+		if (!(x.z() > 1.0f))
+			return false;
+		const double u = K.fx * x.x() / x.z() + K.cx, v = K.fy * x.y() / x.z() + K.cy;
+		u0 = std::min(u0, u);
+		u1 = std::max(u1, u);
+		v0 = std::min(v0, v);
+		v1 = std::max(v1, v);
+	}
+	box[0] = u0;
+	box[1] = v0;
+	box[2] = u1;
+	box[3] = v1;
+	return true;
+}
+
+// delta applied `times` times (a rotation's angle scaled, its translation
+// following the same screw only to first order: a frame's motion is small).
+Pose repeated(const Pose &delta, double times)
+{
+	if (times == 1.0)
+		return delta;
+	Eigen::AngleAxisd aa(delta.R);
+	Pose out;
+	out.R = Eigen::AngleAxisd(aa.angle() * times, aa.axis()).toRotationMatrix();
+	out.t = delta.t * times;
+	return out;
+}
+
+void count(StageCounter &c, int64_t ns)
+{
+	++c.calls;
+	c.totalNs += ns;
+	c.maxNs = std::max(c.maxNs, ns);
+}
+
+} // namespace
+
+const char *boxModeName(BoxMode mode)
+{
+	switch (mode) {
+	case BoxMode::kTrack:
+		return "track";
+	case BoxMode::kDetect:
+		return "detect";
+	case BoxMode::kDeferred:
+		return "deferred";
+	case BoxMode::kDuplicate:
+		return "duplicate";
+	case BoxMode::kSkipped:
+		return "skipped";
+	}
+	return "?";
+}
+
+StreamEstimator::StreamEstimator(PoseEstimator &detector, const TrackerConfig &config, const Clock *clock)
+	: detector_(detector), config_(config), clock_(clock ? *clock : steadyClock_)
+{
+	const int window = std::max(1, config_.windowPixels > 0 ? config_.windowPixels
+							      : detector.limits().maxWindowPixels);
+	config_.windowPixels = window;
+	const size_t vertices = detector.limits().maxMeshVertices;
+	auto arena = Arena::create(TrackRefiner::arenaBytes(window, vertices));
+	if (!arena)
+		return;
+	arena_ = std::move(*arena);
+	valid_ = refiner_.reserve(window, vertices, arena_).ok();
+}
+
+void StreamEstimator::reset()
+{
+	for (Track &t : tracks_)
+		t = Track{};
+	nextId_ = 1;
+}
+
+int StreamEstimator::activeTracks() const
+{
+	return static_cast<int>(
+		std::count_if(tracks_.begin(), tracks_.end(), [](const Track &t) { return t.state != TrackState::kFree; }));
+}
+
+Track *StreamEstimator::trackById(int id)
+{
+	for (Track &t : tracks_)
+		if (t.state != TrackState::kFree && t.id == id)
+			return &t;
+	return nullptr;
+}
+
+Track *StreamEstimator::newTrack(const StreamBox &box, uint64_t frame)
+{
+	for (Track &t : tracks_) {
+		if (t.state != TrackState::kFree)
+			continue;
+		t = Track{};
+		t.state = TrackState::kPending;
+		if (box.trackId > 0) {
+			t.id = box.trackId;
+		} else {
+			// Our own ids skip any a detector's track holds.
+			while (trackById(nextId_))
+				++nextId_;
+			t.id = nextId_++;
+		}
+		t.objId = box.objId;
+		t.model = box.model;
+		t.lastBox = box.box;
+		t.lastFrame = frame;
+		++stats_.started;
+		return &t;
+	}
+	return nullptr;
+}
+
+Pose StreamEstimator::predicted(const Track &t, uint64_t frame) const
+{
+	const double gap = frame > t.lastFrame ? static_cast<double>(frame - t.lastFrame) : 1.0;
+	return repeated(t.velocity, gap) * t.pose;
+}
+
+void StreamEstimator::matchBoxes(std::span<const StreamBox> boxes, const CameraIntrinsics &K, uint64_t frame)
+{
+	const size_t n = boxes.size();
+	for (size_t i = 0; i < n; ++i) {
+		trackOf_[i] = nullptr;
+		duplicateOf_[i] = -1;
+	}
+	// The detector's own track ids first.
+	for (size_t i = 0; i < n; ++i) {
+		const StreamBox &b = boxes[i];
+		if (!b.model || b.trackId <= 0)
+			continue;
+		Track *t = trackById(b.trackId);
+		if (t && t->objId == b.objId && !t->matched) {
+			trackOf_[i] = t;
+			t->matched = true;
+		}
+	}
+	// Then by the overlap of each box with each track's predicted
+	// silhouette (the last box of a track that waits for a detection),
+	// greedily, the largest overlap first.
+	size_t pairs = 0;
+	for (size_t i = 0; i < n; ++i) {
+		if (!boxes[i].model || trackOf_[i] || boxes[i].trackId > 0)
+			continue;
+		for (size_t k = 0; k < tracks_.size(); ++k) {
+			const Track &t = tracks_[k];
+			if (t.state == TrackState::kFree || t.matched || t.objId != boxes[i].objId)
+				continue;
+			double overlap = 0;
+			if (t.state == TrackState::kTracked) {
+				double region[4];
+				if (projectedBox(t.model->mesh(), predicted(t, frame), K, region))
+					overlap = iou(boxes[i].box, region[0], region[1], region[2], region[3]);
+			} else {
+				overlap = iou(boxes[i].box, t.lastBox);
+			}
+			if (overlap >= config_.matchIou)
+				pairs_[pairs++] = {static_cast<float>(overlap), static_cast<int>(i), static_cast<int>(k)};
+		}
+	}
+	std::sort(pairs_.begin(), pairs_.begin() + static_cast<std::ptrdiff_t>(pairs),
+		  [](const Pair &a, const Pair &b) {
+			  return a.iou != b.iou ? a.iou > b.iou : (a.box != b.box ? a.box < b.box : a.track < b.track);
+		  });
+	for (size_t p = 0; p < pairs; ++p) {
+		const size_t i = static_cast<size_t>(pairs_[p].box);
+		Track &t = tracks_[static_cast<size_t>(pairs_[p].track)];
+		if (trackOf_[i] || t.matched)
+			continue;
+		trackOf_[i] = &t;
+		t.matched = true;
+	}
+	// A box left over that repeats a box of the same object is answered
+	// as that box; any other starts a track.
+	for (size_t i = 0; i < n; ++i) {
+		if (!boxes[i].model || trackOf_[i])
+			continue;
+		for (size_t j = 0; j < n; ++j)
+			if (j != i && boxes[j].model && boxes[j].objId == boxes[i].objId &&
+			    (trackOf_[j] || j < i) && duplicateOf_[j] < 0 &&
+			    iou(boxes[i].box, boxes[j].box) >= kDuplicateIou) {
+				duplicateOf_[i] = static_cast<int>(j);
+				break;
+			}
+		if (duplicateOf_[i] >= 0)
+			continue;
+		trackOf_[i] = newTrack(boxes[i], frame);
+		if (trackOf_[i])
+			trackOf_[i]->matched = true;
+	}
+	for (size_t i = 0; i < n; ++i)
+		if (Track *t = trackOf_[i]) {
+			t->lastBox = boxes[i].box;
+			t->missed = 0;
+		}
+}
+
+void StreamEstimator::place(Track &t, const PoseEstimate &e, uint64_t frame, bool fromTrack)
+{
+	if (fromTrack) {
+		const double gap = frame > t.lastFrame ? static_cast<double>(frame - t.lastFrame) : 1.0;
+		t.velocity = repeated(poseDelta(t.pose, e.pose), 1.0 / gap);
+	} else {
+		t.velocity = Pose{};
+		t.detectionScore = e.score.score;
+		t.detectionMargin = e.margin;
+		t.detectedOnce = true;
+	}
+	t.pose = e.pose;
+	t.lastFrame = frame;
+	t.state = TrackState::kTracked;
+	t.waiting = 0;
+}
+
+void StreamEstimator::trackBox(size_t i, uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
+			       std::span<const StreamBox> boxes, const EstimatorConfig &config,
+			       std::span<StreamResult> results)
+{
+	Track &t = *trackOf_[i];
+	StreamResult &r = results[i];
+	const int64_t t0 = clock_.nowNs();
+	const TrackRefinement refined = refiner_.refine(depth, K, boxes[i].box, *t.model, config, config_,
+							predicted(t, frame), t.detectionScore, t.detectionMargin);
+	r.startNs = t0;
+	r.ns = clock_.nowNs() - t0;
+	count(stats_.trackTime, r.ns);
+	r.tracked = true;
+	r.verdict = refined.verdict;
+	r.trackId = t.id;
+	if (refined.verdict == TrackVerdict::kKept) {
+		r.mode = BoxMode::kTrack;
+		r.estimate = refined.estimate;
+		place(t, refined.estimate, frame, true);
+		++stats_.tracked;
+		return;
+	}
+	++stats_.rejected[static_cast<size_t>(refined.verdict)];
+	needsDetection_[i] = true;
+}
+
+void StreamEstimator::detectBoxes(uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
+				  std::span<const StreamBox> boxes, const EstimatorConfig &config, int64_t deadline,
+				  std::span<StreamResult> results)
+{
+	size_t wanted = 0;
+	for (size_t i = 0; i < boxes.size(); ++i)
+		if (needsDetection_[i])
+			order_[wanted++] = static_cast<int>(i);
+	if (wanted == 0)
+		return;
+	// The longest wait first, then the frame's order: an insertion sort,
+	// stable and without the buffer std::stable_sort allocates.
+	const auto waiting = [&](size_t k) { return trackOf_[static_cast<size_t>(order_[k])]->waiting; };
+	for (size_t k = 1; k < wanted; ++k)
+		for (size_t j = k; j > 0 && waiting(j - 1) < waiting(j); --j)
+			std::swap(order_[j - 1], order_[j]);
+	const bool unlimited = deadline == std::numeric_limits<int64_t>::max();
+	size_t run = wanted;
+	float shareMs = 0;
+	if (!unlimited) {
+		size_t due = 0;
+		for (size_t k = 0; k < wanted; ++k)
+			due += trackOf_[static_cast<size_t>(order_[k])]->waiting >= config_.maxDeferFrames - 1;
+		const double leftMs = static_cast<double>(deadline - clock_.nowNs()) * 1e-6;
+		const size_t fit = leftMs > 0 && config_.detectMinMs > 0
+					   ? static_cast<size_t>(leftMs / static_cast<double>(config_.detectMinMs))
+					   : (leftMs > 0 ? wanted : 0);
+		run = std::max(due, std::min(wanted, fit));
+		stats_.forced += due > fit ? due - fit : 0;
+		// Never 0 or less: that would be an unlimited frame.
+		shareMs = static_cast<float>(std::max(leftMs, 1e-3));
+	}
+	if (run > 0) {
+		detector_.beginFrame(static_cast<int>(run), unlimited ? 0.0f : shareMs);
+		for (size_t k = 0; k < run; ++k) {
+			const size_t i = static_cast<size_t>(order_[k]);
+			Track &t = *trackOf_[i];
+			StreamResult &r = results[i];
+			const int64_t t0 = clock_.nowNs();
+			r.estimate = detector_.estimate(depth, K, boxes[i].box, *t.model, config);
+			r.startNs = t0;
+			r.ns = clock_.nowNs() - t0;
+			count(stats_.detectTime, r.ns);
+			r.mode = BoxMode::kDetect;
+			r.trackId = t.id;
+			r.waited = t.waiting;
+			stats_.maxWait = std::max(stats_.maxWait, t.waiting);
+			++stats_.detected;
+			stats_.redetected += t.detectedOnce;
+			if (r.estimate.found) {
+				place(t, r.estimate, frame, false);
+			} else {
+				// No pose: the box was answered; the next frame tries again.
+				t.state = TrackState::kPending;
+				t.waiting = 0;
+			}
+		}
+		detector_.endFrame();
+	}
+	for (size_t k = run; k < wanted; ++k) {
+		const size_t i = static_cast<size_t>(order_[k]);
+		Track &t = *trackOf_[i];
+		StreamResult &r = results[i];
+		r.mode = BoxMode::kDeferred;
+		r.trackId = t.id;
+		r.estimate = PoseEstimate{};
+		r.estimate.reason = "waits for a detection in a later frame";
+		r.waited = t.waiting;
+		t.state = TrackState::kPending;
+		++t.waiting;
+		++stats_.deferred;
+	}
+}
+
+void StreamEstimator::endUnmatched()
+{
+	for (Track &t : tracks_) {
+		if (t.state == TrackState::kFree)
+			continue;
+		if (!t.matched && ++t.missed >= config_.maxMissedFrames) {
+			t = Track{};
+			++stats_.lost;
+		}
+		t.matched = false;
+	}
+}
+
+void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
+				    std::span<const StreamBox> boxes, const EstimatorConfig &config, float budgetMs,
+				    std::span<StreamResult> results)
+{
+	const int64_t start = clock_.nowNs();
+	const int64_t deadline = budgetMs > 0 ? start + static_cast<int64_t>(static_cast<double>(budgetMs) * 1e6)
+					      : std::numeric_limits<int64_t>::max();
+	++stats_.frames;
+	const size_t n = std::min(boxes.size(), static_cast<size_t>(kMaxBoxes));
+	for (size_t i = 0; i < boxes.size(); ++i) {
+		results[i] = StreamResult{};
+		needsDetection_[i % kMaxBoxes] = false;
+	}
+	for (size_t i = n; i < boxes.size(); ++i)
+		results[i].estimate.reason = "more boxes in the frame than the tracker holds";
+	stats_.boxes += boxes.size();
+	const std::span<const StreamBox> held = boxes.first(n);
+	matchBoxes(held, K, frame);
+	// Tracked boxes first: they are cheap and keep what is known.
+	for (size_t i = 0; i < n; ++i) {
+		if (!held[i].model) {
+			results[i].estimate.reason = "no model for the object";
+			continue;
+		}
+		if (duplicateOf_[i] >= 0)
+			continue;
+		if (!trackOf_[i]) {
+			results[i].estimate.reason = "more tracks than the tracker holds";
+			continue;
+		}
+		if (trackOf_[i]->state == TrackState::kTracked && config_.enabled && valid_)
+			trackBox(i, frame, depth, K, held, config, results);
+		else
+			needsDetection_[i] = true;
+	}
+	detectBoxes(frame, depth, K, held, config, deadline, results);
+	for (size_t i = 0; i < n; ++i) {
+		if (duplicateOf_[i] < 0)
+			continue;
+		const StreamResult &first = results[static_cast<size_t>(duplicateOf_[i])];
+		results[i] = first;
+		results[i].mode = BoxMode::kDuplicate;
+		results[i].ns = 0;
+		++stats_.duplicates;
+	}
+	for (size_t i = 0; i < boxes.size(); ++i)
+		stats_.skipped += results[i].mode == BoxMode::kSkipped;
+	endUnmatched();
+	const int64_t end = clock_.nowNs();
+	stats_.worstFrameNs = std::max(stats_.worstFrameNs, end - start);
+	stats_.frameOverruns += end > deadline;
+}
+
+} // namespace ihf

@@ -1,0 +1,145 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// Poses for a stream of frames whose boxes show the same objects frame
+// after frame. Each box is matched to a track (its detector's track_id
+// when given, else the overlap of the box with the track's predicted
+// silhouette); a matched box is tracked: the previous pose moved on by the
+// track's constant velocity and polished (track_refiner.h). A box that no
+// track explains, or whose tracked pose was not kept, is detected by the
+// cold estimator (PoseEstimator), which starts or restarts its track.
+//
+// The frame's budget is shared: tracked boxes first, then detections,
+// oldest wait first, each only while at least detectMinMs is left for it;
+// a detection that does not fit waits for the next frame (counted, and its
+// box answered as deferred), and one that has waited maxDeferFrames runs
+// whatever the time left. A track with no box for maxMissedFrames ends.
+// Nothing here allocates after construction: tracks, per-frame lists and
+// the refiner's buffers are fixed at start-up.
+
+#include <array>
+#include <span>
+
+#include "core/estimation/pose_estimator.h"
+#include "core/runtime/arena.h"
+#include "core/runtime/clock.h"
+#include "core/tracking/track.h"
+#include "core/tracking/track_refiner.h"
+#include "core/tracking/tracker_config.h"
+
+namespace ihf {
+
+struct StreamBox {
+	int objId = 0;
+	PixelBox box;
+	int trackId = 0;                    // the detector's track, 0: none
+	const ObjectModel *model = nullptr; // null: no model for objId (not estimated)
+};
+
+enum class BoxMode : uint8_t {
+	kTrack,     // the tracked pose
+	kDetect,    // a cold detection
+	kDeferred,  // waits for a detection in a later frame
+	kDuplicate, // repeats another box of the frame (same object, same place)
+	kSkipped,   // no model, or more boxes than the frame holds
+};
+
+const char *boxModeName(BoxMode mode);
+
+struct StreamResult {
+	BoxMode mode = BoxMode::kSkipped;
+	int trackId = 0;
+	PoseEstimate estimate;             // found: a pose; else reason
+	TrackVerdict verdict = TrackVerdict::kKept; // of the tracked attempt, when there was one
+	bool tracked = false;              // a tracked pose was tried
+	int waited = 0;                    // frames the box waited for this detection
+	int64_t startNs = 0;               // when its estimation began (the clock's time)
+	int64_t ns = 0;                    // time spent on the box
+};
+
+struct TrackingStats {
+	uint64_t frames = 0;
+	uint64_t boxes = 0;
+	uint64_t tracked = 0;     // boxes answered by tracking
+	uint64_t detected = 0;    // boxes answered by a detection
+	uint64_t redetected = 0;  // of those, after a tracked pose was not kept
+	uint64_t deferred = 0;    // detections moved to a later frame
+	uint64_t forced = 0;      // detections run though the frame had no room (due)
+	uint64_t duplicates = 0;
+	uint64_t skipped = 0;
+	uint64_t started = 0;     // tracks begun
+	uint64_t lost = 0;        // tracks ended for want of boxes
+	std::array<uint64_t, 9> rejected{}; // tracked poses not kept, by TrackVerdict
+	StageCounter trackTime;   // tracked boxes
+	StageCounter detectTime;  // detected boxes
+	int maxWait = 0;          // the longest a box waited for its detection
+	uint64_t frameOverruns = 0; // budgeted frames that ended past their budget
+	int64_t worstFrameNs = 0;
+};
+
+class StreamEstimator
+{
+public:
+	static constexpr int kMaxTracks = 64;
+	static constexpr int kMaxBoxes = 64; // per frame
+
+	// detector: the cold estimator, on the same clock; maxMeshVertices as
+	// its limits. The refiner's arena is allocated here.
+	StreamEstimator(PoseEstimator &detector, const TrackerConfig &config, const Clock *clock = nullptr);
+
+	bool valid() const { return valid_; }
+	const TrackerConfig &config() const { return config_; }
+
+	// A new stream: every track ends (not counted as lost).
+	void reset();
+
+	// One frame's boxes into results[i] (results.size() >= boxes.size()),
+	// inside budgetMs (<= 0: unlimited). frame: the frame's index, for
+	// the tracks' velocity across missed frames.
+	void estimateFrame(uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
+			   std::span<const StreamBox> boxes, const EstimatorConfig &config, float budgetMs,
+			   std::span<StreamResult> results);
+
+	const TrackingStats &stats() const { return stats_; }
+	int activeTracks() const;
+	size_t arenaCapacity() const { return arena_.capacity(); }
+	size_t arenaUsed() const { return arena_.highWater(); }
+
+private:
+	Track *newTrack(const StreamBox &box, uint64_t frame);
+	Track *trackById(int id);
+	// The track a box belongs to (null: none), by id or overlap.
+	void matchBoxes(std::span<const StreamBox> boxes, const CameraIntrinsics &K, uint64_t frame);
+	Pose predicted(const Track &t, uint64_t frame) const;
+	void trackBox(size_t i, uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
+		      std::span<const StreamBox> boxes, const EstimatorConfig &config, std::span<StreamResult> results);
+	void detectBoxes(uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
+			 std::span<const StreamBox> boxes, const EstimatorConfig &config, int64_t deadline,
+			 std::span<StreamResult> results);
+	void place(Track &t, const PoseEstimate &e, uint64_t frame, bool fromTrack);
+	void endUnmatched();
+
+	PoseEstimator &detector_;
+	TrackerConfig config_;
+	SteadyClock steadyClock_;
+	const Clock &clock_;
+	Arena arena_;
+	TrackRefiner refiner_;
+	bool valid_ = false;
+	int nextId_ = 1;
+	std::array<Track, kMaxTracks> tracks_{};
+	// Per frame: each box's track (null: none) and what it needs.
+	std::array<Track *, kMaxBoxes> trackOf_{};
+	std::array<bool, kMaxBoxes> needsDetection_{};
+	std::array<int, kMaxBoxes> order_{};
+	std::array<int, kMaxBoxes> duplicateOf_{}; // the box a duplicate repeats, -1: none
+	struct Pair {
+		float iou;
+		int box;
+		int track;
+	};
+	std::array<Pair, kMaxBoxes * kMaxTracks> pairs_{};
+	TrackingStats stats_;
+};
+
+} // namespace ihf

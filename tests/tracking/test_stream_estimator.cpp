@@ -1,0 +1,384 @@
+// SPDX-License-Identifier: MIT
+// Tracking through a stream (core/tracking/stream_estimator.h): an object
+// detected once is then tracked from frame to frame while it moves; a box
+// is matched to its track by overlap or by the detector's track id; inside
+// a frame budget tracked boxes run first and detections that do not fit
+// wait, oldest first, and none waits longer than maxDeferFrames; an object
+// moved, turned or taken away is detected again; bad boxes get a status and
+// the stream goes on. Scenes are a small LM-O forest's object rendered in
+// front of a wall; budgets run on a step clock.
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/geometry/rotation.h"
+#include "core/tracking/stream_estimator.h"
+#include "core/training/view_template_builder.h"
+#include "tests/runtime/small_model.h"
+
+namespace ihf {
+namespace {
+
+constexpr int64_t kMs = 1000000;
+
+double degrees(const Pose &a, const Pose &b)
+{
+	return rotationAngle(a.R, b.R) * 180.0 / M_PI;
+}
+
+double mm(const Pose &a, const Pose &b)
+{
+	return (a.t - b.t).norm();
+}
+
+// A turn of `deg` degrees about `axis` (camera frame) of the pose, about
+// the pose's own origin.
+Pose turned(const Pose &p, const Eigen::Vector3d &axis, double deg)
+{
+	const Eigen::Matrix3d R = Eigen::AngleAxisd(deg * M_PI / 180.0, axis.normalized()).toRotationMatrix();
+	return {R * p.R, p.t};
+}
+
+class StreamEstimatorTest : public ::testing::Test
+{
+protected:
+	static void SetUpTestSuite()
+	{
+		model_ = new test::SmallModel(test::trainSmallModel(1, 11, 20, 2));
+		ASSERT_TRUE(model_->model);
+		auto points = buildViewTemplatePoints(model_->model->mesh(), model_->model->params().diameter, {40, 32});
+		ASSERT_TRUE(points) << points.error().message;
+		model_->model->attachViewTemplates(40, 32, std::move(*points));
+	}
+	static void TearDownTestSuite() { delete model_; }
+
+	const ObjectModel &model() const { return *model_->model; }
+
+	// The object at each pose in front of a wall 1 m away; the box of each.
+	struct Scene {
+		DepthImageMm depth{640, 480, 0.0f};
+		std::vector<PixelBox> boxes;
+	};
+	Scene render(const std::vector<Pose> &poses) const
+	{
+		Scene s;
+		for (const Pose &p : poses)
+			s.boxes.push_back(test::renderInto(model(), p, s.depth));
+		for (int y = 0; y < s.depth.height(); ++y)
+			for (int x = 0; x < s.depth.width(); ++x)
+				if (!(s.depth.at(x, y) > 0))
+					s.depth.at(x, y) = 1000.0f;
+		return s;
+	}
+
+	std::vector<StreamBox> boxesOf(const Scene &s) const
+	{
+		std::vector<StreamBox> out;
+		for (const PixelBox &b : s.boxes)
+			out.push_back({1, b, 0, &model()});
+		return out;
+	}
+
+	static EstimatorConfig detection()
+	{
+		EstimatorConfig c;
+		c.iterations = 0;
+		return c;
+	}
+
+	// A pose moving a few millimetres and about a degree a frame, as an
+	// object seen by a camera moving at ~0.1 m/s.
+	Pose start() const { return test::viewAt(*model_, 37, {40, -30, 780}); }
+	static Pose moved(const Pose &p0, int frame)
+	{
+		Pose p = turned(p0, {0.3, 1.0, 0.2}, 1.2 * frame);
+		p.t += Eigen::Vector3d(3.0, -1.5, 2.0) * frame;
+		return p;
+	}
+
+	std::vector<StreamResult> run(StreamEstimator &s, uint64_t frame, const Scene &scene,
+				      const std::vector<StreamBox> &boxes, float budgetMs = 0,
+				      const EstimatorConfig &c = detection())
+	{
+		std::vector<StreamResult> r(boxes.size());
+		s.estimateFrame(frame, scene.depth.view(), test::kKinect, boxes, c, budgetMs, r);
+		return r;
+	}
+
+	static test::SmallModel *model_;
+};
+
+test::SmallModel *StreamEstimatorTest::model_ = nullptr;
+
+TEST_F(StreamEstimatorTest, AMovingObjectIsDetectedOnceThenTracked)
+{
+	PoseEstimator detector;
+	StreamEstimator stream(detector, TrackerConfig{});
+	ASSERT_TRUE(stream.valid());
+	const Pose p0 = start();
+	int trackId = 0;
+	for (int f = 0; f < 12; ++f) {
+		const Pose truth = moved(p0, f);
+		const Scene scene = render({truth});
+		const std::vector<StreamResult> r = run(stream, static_cast<uint64_t>(f), scene, boxesOf(scene));
+		ASSERT_EQ(r.size(), 1u);
+		ASSERT_TRUE(r[0].estimate.found) << "frame " << f << ": " << r[0].estimate.reason;
+		EXPECT_EQ(r[0].mode, f == 0 ? BoxMode::kDetect : BoxMode::kTrack) << "frame " << f;
+		EXPECT_LT(mm(r[0].estimate.pose, truth), 5.0) << "frame " << f;
+		EXPECT_LT(degrees(r[0].estimate.pose, truth), 3.0) << "frame " << f;
+		if (f == 0)
+			trackId = r[0].trackId;
+		EXPECT_EQ(r[0].trackId, trackId);
+		EXPECT_GT(r[0].estimate.confidence, 0.0f);
+	}
+	EXPECT_EQ(stream.stats().detected, 1u);
+	EXPECT_EQ(stream.stats().tracked, 11u);
+	EXPECT_EQ(stream.stats().started, 1u);
+	EXPECT_EQ(stream.stats().trackTime.calls, 11u);
+}
+
+TEST_F(StreamEstimatorTest, WithTrackingOffEveryBoxIsDetected)
+{
+	PoseEstimator detector;
+	TrackerConfig off;
+	off.enabled = false;
+	StreamEstimator stream(detector, off);
+	for (int f = 0; f < 3; ++f) {
+		const Scene scene = render({moved(start(), f)});
+		const std::vector<StreamResult> r = run(stream, static_cast<uint64_t>(f), scene, boxesOf(scene));
+		EXPECT_EQ(r[0].mode, BoxMode::kDetect);
+		EXPECT_FALSE(r[0].tracked);
+	}
+	EXPECT_EQ(stream.stats().tracked, 0u);
+}
+
+TEST_F(StreamEstimatorTest, ATrackedPoseIsTheDetectorsScoreOfThatPose)
+{
+	// The tracked box is scored as a detection scores it: same crop, same
+	// scorer.
+	PoseEstimator detector;
+	StreamEstimator stream(detector, TrackerConfig{});
+	const Scene s0 = render({moved(start(), 0)});
+	run(stream, 0, s0, boxesOf(s0));
+	const Scene s1 = render({moved(start(), 1)});
+	const std::vector<StreamResult> r = run(stream, 1, s1, boxesOf(s1));
+	ASSERT_EQ(r[0].mode, BoxMode::kTrack);
+	EstimatorConfig c = detection();
+	c.windowPixels = 4000; // the tracker's
+	auto scored = detector.scorePose(s1.depth.view(), test::kKinect, s1.boxes[0], model(), c, r[0].estimate.pose);
+	ASSERT_TRUE(scored);
+	EXPECT_NEAR(scored->score, r[0].estimate.score.score, 0.05f);
+}
+
+TEST_F(StreamEstimatorTest, TheDetectorsTrackIdWinsOverOverlap)
+{
+	PoseEstimator detector;
+	StreamEstimator stream(detector, TrackerConfig{});
+	const Pose a = test::viewAt(*model_, 37, {-120, -20, 800}), b = test::viewAt(*model_, 12, {110, 30, 800});
+	Scene s0 = render({a, b});
+	std::vector<StreamBox> boxes = boxesOf(s0);
+	boxes[0].trackId = 7;
+	boxes[1].trackId = 9;
+	std::vector<StreamResult> r = run(stream, 0, s0, boxes);
+	EXPECT_EQ(r[0].trackId, 7);
+	EXPECT_EQ(r[1].trackId, 9);
+	// The same boxes in the other order keep their identities.
+	std::swap(boxes[0], boxes[1]);
+	r = run(stream, 1, s0, boxes);
+	EXPECT_EQ(r[0].trackId, 9);
+	EXPECT_EQ(r[1].trackId, 7);
+	EXPECT_EQ(r[0].mode, BoxMode::kTrack);
+	EXPECT_EQ(r[1].mode, BoxMode::kTrack);
+	// Without ids, the overlap keeps them too.
+	boxes[0].trackId = boxes[1].trackId = 0;
+	r = run(stream, 2, s0, boxes);
+	EXPECT_EQ(r[0].trackId, 9);
+	EXPECT_EQ(r[1].trackId, 7);
+}
+
+TEST_F(StreamEstimatorTest, TrackedBoxesRunFirstAndDetectionsThatDoNotFitWait)
+{
+	test::StepClock clock(kMs);
+	PoseEstimator detector({}, &clock);
+	TrackerConfig tc;
+	tc.detectMinMs = 20;
+	tc.maxDeferFrames = 3;
+	StreamEstimator stream(detector, tc, &clock);
+	const Pose a = test::viewAt(*model_, 37, {-150, -40, 800}), b = test::viewAt(*model_, 12, {0, 60, 800}),
+		   c = test::viewAt(*model_, 25, {150, -40, 800});
+	const Scene scene = render({a, b, c});
+	const std::vector<StreamBox> all = boxesOf(scene);
+	// Frame 0, 30 ms: room for one detection of the three.
+	std::vector<StreamResult> r = run(stream, 0, scene, all, 30);
+	ASSERT_EQ(std::count_if(r.begin(), r.end(), [](const StreamResult &x) { return x.mode == BoxMode::kDetect; }),
+		  1);
+	ASSERT_EQ(std::count_if(r.begin(), r.end(), [](const StreamResult &x) { return x.mode == BoxMode::kDeferred; }),
+		  2);
+	EXPECT_EQ(r[0].mode, BoxMode::kDetect); // the frame's order among equal waits
+	for (const StreamResult &x : r)
+		if (x.mode == BoxMode::kDeferred) {
+			EXPECT_FALSE(x.estimate.found);
+			EXPECT_GT(x.trackId, 0);
+		}
+	EXPECT_EQ(stream.stats().deferred, 2u);
+	// Frame 1: the tracked box runs first although it is listed last; of
+	// the waiting two, one more fits.
+	std::vector<StreamBox> reordered{all[1], all[2], all[0]};
+	r = run(stream, 1, scene, reordered, 30);
+	EXPECT_EQ(r[2].mode, BoxMode::kTrack);
+	for (int i = 0; i < 2; ++i)
+		if (r[i].mode == BoxMode::kDetect) {
+			EXPECT_GT(r[i].startNs, r[2].startNs);
+			EXPECT_EQ(r[i].waited, 1);
+		}
+	EXPECT_EQ(std::count_if(r.begin(), r.end(), [](const StreamResult &x) { return x.mode == BoxMode::kDetect; }),
+		  1);
+	// Frame 2, with no room at all: the box that has waited two frames is
+	// due and runs anyway (forced); every box has had its detection.
+	r = run(stream, 2, scene, reordered, 1);
+	int detectedNow = 0;
+	for (const StreamResult &x : r)
+		if (x.mode == BoxMode::kDetect) {
+			++detectedNow;
+			EXPECT_EQ(x.waited, 2);
+		}
+	EXPECT_EQ(detectedNow, 1);
+	EXPECT_EQ(stream.stats().detected, 3u);
+	EXPECT_GE(stream.stats().forced, 1u);
+	EXPECT_EQ(stream.stats().maxWait, 2);
+}
+
+TEST_F(StreamEstimatorTest, ANewBoxWaitsBehindOneThatWaitedLonger)
+{
+	test::StepClock clock(kMs);
+	PoseEstimator detector({}, &clock);
+	TrackerConfig tc;
+	tc.detectMinMs = 20;
+	StreamEstimator stream(detector, tc, &clock);
+	const Pose a = test::viewAt(*model_, 37, {-150, -40, 800}), b = test::viewAt(*model_, 12, {0, 60, 800}),
+		   c = test::viewAt(*model_, 25, {150, -40, 800});
+	const Scene two = render({a, b});
+	std::vector<StreamResult> r = run(stream, 0, two, boxesOf(two), 30);
+	ASSERT_EQ(r[1].mode, BoxMode::kDeferred);
+	// A new object appears, listed first: the waiting box goes before it.
+	const Scene three = render({a, b, c});
+	std::vector<StreamBox> boxes = boxesOf(three);
+	r = run(stream, 1, three, {boxes[2], boxes[0], boxes[1]}, 30);
+	EXPECT_EQ(r[0].mode, BoxMode::kDeferred);
+	EXPECT_EQ(r[1].mode, BoxMode::kTrack);
+	EXPECT_EQ(r[2].mode, BoxMode::kDetect);
+}
+
+TEST_F(StreamEstimatorTest, AnObjectMovedElsewhereIsDetectedThereAndItsOldTrackEnds)
+{
+	PoseEstimator detector;
+	TrackerConfig tc;
+	tc.maxMissedFrames = 3;
+	StreamEstimator stream(detector, tc);
+	const Pose here = test::viewAt(*model_, 37, {-120, -20, 800});
+	const Pose there = test::viewAt(*model_, 12, {130, 40, 760});
+	Scene s = render({here});
+	run(stream, 0, s, boxesOf(s));
+	run(stream, 1, s, boxesOf(s));
+	s = render({there});
+	int framesToPose = -1;
+	for (int f = 2; f < 8; ++f) {
+		const std::vector<StreamResult> r = run(stream, static_cast<uint64_t>(f), s, boxesOf(s));
+		if (framesToPose < 0 && r[0].estimate.found && mm(r[0].estimate.pose, there) < 10 &&
+		    degrees(r[0].estimate.pose, there) < 10)
+			framesToPose = f - 2;
+	}
+	EXPECT_GE(framesToPose, 0);
+	EXPECT_LT(framesToPose, 3);
+	EXPECT_EQ(stream.stats().lost, 1u);
+	EXPECT_EQ(stream.activeTracks(), 1);
+}
+
+TEST_F(StreamEstimatorTest, AnObjectTurnedInPlaceIsDetectedAgainWithinThreeFrames)
+{
+	PoseEstimator detector;
+	StreamEstimator stream(detector, TrackerConfig{});
+	const Pose before = test::viewAt(*model_, 37, {30, -20, 800});
+	Scene s = render({before});
+	run(stream, 0, s, boxesOf(s));
+	run(stream, 1, s, boxesOf(s));
+	// Picked up and put back turned, in the same place.
+	const Pose after = test::viewAt(*model_, 12, before.t);
+	s = render({after});
+	int framesToPose = -1;
+	for (int f = 2; f < 6; ++f) {
+		const std::vector<StreamResult> r = run(stream, static_cast<uint64_t>(f), s, boxesOf(s));
+		if (framesToPose < 0 && r[0].estimate.found && mm(r[0].estimate.pose, after) < 10 &&
+		    degrees(r[0].estimate.pose, after) < 10)
+			framesToPose = f - 2;
+	}
+	EXPECT_GE(framesToPose, 0);
+	EXPECT_LT(framesToPose, 3);
+	EXPECT_GE(stream.stats().redetected, 1u);
+}
+
+TEST_F(StreamEstimatorTest, BadBoxesGetAStatusAndTheStreamGoesOn)
+{
+	PoseEstimator detector;
+	TrackerConfig tc;
+	tc.maxMissedFrames = 2;
+	StreamEstimator stream(detector, tc);
+	const Pose p = test::viewAt(*model_, 37, {-60, -20, 800});
+	const Scene scene = render({p});
+	std::vector<StreamBox> boxes = boxesOf(scene);
+	run(stream, 0, scene, boxes);
+	// The same box twice, a box with no depth, a box outside the image, an
+	// object without a model.
+	DepthImageMm holed = scene.depth;
+	for (int y = 0; y < 40; ++y)
+		for (int x = 0; x < 40; ++x)
+			holed.at(580 + x, 400 + y) = 0;
+	Scene bad{holed, scene.boxes};
+	std::vector<StreamBox> frame1{boxes[0], boxes[0], {1, {580, 400, 40, 40}, 0, &model()},
+				      {1, {700, 500, 30, 30}, 0, &model()}, {4, {10, 10, 50, 50}, 0, nullptr}};
+	std::vector<StreamResult> r = run(stream, 1, bad, frame1);
+	EXPECT_EQ(r[0].mode, BoxMode::kTrack);
+	EXPECT_EQ(r[1].mode, BoxMode::kDuplicate);
+	EXPECT_EQ(r[1].trackId, r[0].trackId);
+	EXPECT_FALSE(r[2].estimate.found);
+	EXPECT_STREQ(r[2].estimate.reason, "too few valid depth pixels in the box");
+	EXPECT_FALSE(r[3].estimate.found);
+	EXPECT_STREQ(r[3].estimate.reason, "box outside the image");
+	EXPECT_EQ(r[4].mode, BoxMode::kSkipped);
+	EXPECT_FALSE(r[4].estimate.found);
+	// The object leaves the image: no more boxes; its track ends.
+	for (uint64_t f = 2; f < 5; ++f)
+		run(stream, f, scene, {});
+	EXPECT_EQ(stream.activeTracks(), 0);
+	EXPECT_GE(stream.stats().lost, 1u);
+	// And the stream goes on: the object back, detected again.
+	r = run(stream, 5, scene, boxes);
+	EXPECT_EQ(r[0].mode, BoxMode::kDetect);
+	EXPECT_TRUE(r[0].estimate.found);
+}
+
+TEST_F(StreamEstimatorTest, ATrackWhoseBoxIsMissedCoastsOnItsVelocity)
+{
+	PoseEstimator detector;
+	StreamEstimator stream(detector, TrackerConfig{});
+	const Pose p0 = start();
+	for (int f = 0; f < 4; ++f) {
+		const Scene s = render({moved(p0, f)});
+		run(stream, static_cast<uint64_t>(f), s, boxesOf(s));
+	}
+	// Frame 4's box is missed; frame 5 is matched by the prediction two
+	// frames on and tracked.
+	run(stream, 4, render({moved(p0, 4)}), {});
+	const Pose truth = moved(p0, 5);
+	const Scene s5 = render({truth});
+	const std::vector<StreamResult> r = run(stream, 5, s5, boxesOf(s5));
+	EXPECT_EQ(r[0].mode, BoxMode::kTrack);
+	EXPECT_LT(mm(r[0].estimate.pose, truth), 5.0);
+	EXPECT_EQ(stream.stats().started, 1u);
+}
+
+} // namespace
+} // namespace ihf
