@@ -240,6 +240,14 @@ void BoxFeed::parseLine(std::string_view line, uint64_t &frame, bool &ok)
 			++counters_.malformed;
 			continue;
 		}
+		if (auto tr = b.find("track_id"); tr != b.end()) {
+			if (!tr->is_number_integer() || tr->get<int64_t>() < 1 || tr->get<int64_t>() > 1000000000) {
+				problems_.push_back(boxWhere + "\"track_id\" must be a positive integer");
+				++counters_.malformed;
+				continue;
+			}
+			fb.trackId = tr->get<int>();
+		}
 		parsed_.push_back(fb);
 	}
 }

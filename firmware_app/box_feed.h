@@ -3,6 +3,8 @@
 
 // The boxes of an upstream detector, one JSON line per frame:
 //   {"frame": 12, "boxes": [{"obj_id": 20, "bbox": [x, y, w, h]}, ...]}
+// A box may carry the detector's own "track_id" (a positive integer): the
+// tracker then follows that identity instead of matching by overlap.
 // from a file ("file:PATH"), standard input ("stdin") or a UNIX stream
 // socket ("unix:PATH": ihf listens there and serves one client at a time;
 // poses can go back on the same connection). Lines come in increasing frame
@@ -32,6 +34,7 @@ namespace ihf::app {
 struct FrameBox {
 	int objId = 0;
 	std::array<double, 4> bbox{0, 0, 0, 0}; // x, y, w, h pixels
+	int trackId = 0; // the detector's track, 0: none
 };
 
 struct BoxFeedCounters {

@@ -11,6 +11,7 @@
 #include "core/dataset/bop_dataset.h"
 #include "core/dataset/bop_io.h"
 #include "core/estimation/pose_estimator.h"
+#include "core/tracking/stream_estimator.h"
 #include "core/dataset/atomic_file.h"
 #include "core/model/forest_file.h"
 #include "firmware_app/command.h"
@@ -40,6 +41,8 @@ struct EstimateOptions {
 	bool paper = false;
 	bool quiet = false;
 	std::string trace;
+	bool sequence = false;  // --sequence: each scene a stream, tracked
+	std::string runConfig;  // --run-config: [tracking] from a device configuration
 };
 
 // `--trace`: every scored hypothesis as a JSON line, for diagnosing which
@@ -123,6 +126,13 @@ private:
 	std::vector<Pose> truth_;
 };
 
+// As every command turns a detection's box into pixels.
+PixelBox pixelBox(const Detection &d)
+{
+	return {static_cast<int>(std::floor(d.bbox[0])), static_cast<int>(std::floor(d.bbox[1])),
+		static_cast<int>(std::ceil(d.bbox[2])), static_cast<int>(std::ceil(d.bbox[3]))};
+}
+
 int runEstimate(const EstimateOptions &o)
 {
 	auto settings = loadEstimateConfig(o.config);
@@ -193,10 +203,19 @@ int runEstimate(const EstimateOptions &o)
 		return kExitFailure;
 	}
 
-	// Boxes grouped per image, in file order of first appearance.
+	// Boxes grouped per image, images in scene and id order.
 	std::map<std::pair<int, int>, std::vector<const Detection *>> perImage;
 	for (const auto &d : *dets)
 		perImage[{d.sceneId, d.imageId}].push_back(&d);
+	TrackerConfig tracking;
+	if (!o.runConfig.empty()) {
+		Expected<RunSettings> run = loadRunConfig(o.runConfig);
+		if (!run) {
+			std::fprintf(stderr, "ihf estimate: %s\n", run.error().message.c_str());
+			return kExitFailure;
+		}
+		tracking = run->tracking;
+	}
 
 	PoseEstimator estimator(s.limits);
 	if (!estimator.valid()) {
@@ -215,11 +234,42 @@ int runEstimate(const EstimateOptions &o)
 		trace = std::make_unique<TraceWriter>(traceFile.get());
 		estimator.setObserver(trace.get());
 	}
+	std::unique_ptr<StreamEstimator> tracker;
+	if (o.sequence) {
+		tracker = std::make_unique<StreamEstimator>(estimator, tracking);
+		if (!tracker->valid()) {
+			std::fprintf(stderr, "ihf estimate: cannot allocate the tracker's arena\n");
+			return kExitFailure;
+		}
+	}
 	std::map<int, BopScene> scenes;
+	// A stream's frames are all of its scene's images, in id order: a
+	// frame without boxes still ages the tracks.
+	if (tracker) {
+		std::map<std::pair<int, int>, std::vector<const Detection *>> frames;
+		for (const auto &[key, boxes] : perImage) {
+			const int sceneId = key.first;
+			if (!scenes.count(sceneId)) {
+				auto scene = dataset->loadScene(sceneId);
+				if (!scene) {
+					std::fprintf(stderr, "ihf estimate: %s\n", scene.error().message.c_str());
+					return kExitFailure;
+				}
+				scenes[sceneId] = std::move(scene.value());
+				for (const auto &[imId, camera] : scenes[sceneId].cameras)
+					frames[{sceneId, imId}];
+			}
+			frames[key] = boxes;
+		}
+		perImage = std::move(frames);
+	}
 	std::vector<ResultRow> rows;
 	std::vector<double> boxTimes;
 	int skipped = 0, noPose = 0, done = 0;
 	bool warmedUp = false;
+	int streamScene = -1;
+	std::map<BoxMode, int> modes;
+	std::vector<double> trackTimes, detectTimes;
 	for (const auto &[key, boxes] : perImage) {
 		auto [sceneId, imId] = key;
 		if (!scenes.count(sceneId)) {
@@ -236,6 +286,16 @@ int runEstimate(const EstimateOptions &o)
 			std::fprintf(stderr, "ihf estimate: scene %d image %d: not in scene_camera.json; boxes skipped\n",
 				     sceneId, imId);
 			skipped += static_cast<int>(boxes.size());
+			continue;
+		}
+		if (tracker && boxes.empty()) {
+			// Nothing to estimate: the tracks only age.
+			if (sceneId != streamScene) {
+				tracker->reset();
+				streamScene = sceneId;
+			}
+			tracker->estimateFrame(static_cast<uint64_t>(imId), {}, camIt->second.intrinsics, {}, s.estimator,
+					       s.estimator.frameBudgetMs, {});
 			continue;
 		}
 		auto depth = dataset->loadDepthMm(sceneId, imId, camIt->second.depthScale);
@@ -261,6 +321,63 @@ int runEstimate(const EstimateOptions &o)
 					std::fprintf(stderr, "ihf estimate: %s\n", note.c_str());
 		}
 
+		if (tracker) {
+			if (sceneId != streamScene) {
+				tracker->reset();
+				streamScene = sceneId;
+			}
+			std::vector<StreamBox> streamBoxes;
+			std::vector<const Detection *> streamDets;
+			for (const Detection *d : boxes) {
+				auto mIt = models.find(d->categoryId);
+				if (mIt == models.end()) {
+					if (!o.quiet)
+						std::fprintf(stderr,
+							     "ihf estimate: scene %d image %d: no forest for object %d; box skipped\n",
+							     sceneId, imId, d->categoryId);
+					skipped++;
+					continue;
+				}
+				streamBoxes.push_back({d->categoryId, pixelBox(*d), 0, mIt->second.get()});
+				streamDets.push_back(d);
+			}
+			std::vector<StreamResult> results(streamBoxes.size());
+			tracker->estimateFrame(static_cast<uint64_t>(imId), depth->view(), K, streamBoxes, s.estimator,
+					       s.estimator.frameBudgetMs, results);
+			std::vector<ResultRow> imageRows;
+			double imageTime = 0;
+			for (size_t i = 0; i < results.size(); ++i) {
+				const StreamResult &r = results[i];
+				const Detection *d = streamDets[i];
+				++modes[r.mode];
+				if (r.mode == BoxMode::kTrack || r.mode == BoxMode::kDetect) {
+					boxTimes.push_back(r.ns * 1e-9);
+					(r.mode == BoxMode::kTrack ? trackTimes : detectTimes).push_back(r.ns * 1e-9);
+					imageTime += r.ns * 1e-9;
+					++done;
+				}
+				if (!r.estimate.found) {
+					++noPose;
+					if (!o.quiet)
+						std::fprintf(stderr, "ihf estimate: scene %d image %d object %d: %s: %s\n",
+							     sceneId, imId, d->categoryId, boxModeName(r.mode), r.estimate.reason);
+					continue;
+				}
+				ResultRow row;
+				row.sceneId = sceneId;
+				row.imId = imId;
+				row.objId = d->categoryId;
+				row.score = r.estimate.confidence;
+				row.pose = r.estimate.pose;
+				imageRows.push_back(row);
+			}
+			for (auto &r : imageRows) {
+				r.time = imageTime;
+				rows.push_back(r);
+			}
+			continue;
+		}
+
 		std::vector<ResultRow> imageRows;
 		double imageTime = 0;
 		// The frame's budget is shared by the boxes that have a forest.
@@ -277,8 +394,7 @@ int runEstimate(const EstimateOptions &o)
 				skipped++;
 				continue;
 			}
-			PixelBox box{static_cast<int>(std::floor(d->bbox[0])), static_cast<int>(std::floor(d->bbox[1])),
-				     static_cast<int>(std::ceil(d->bbox[2])), static_cast<int>(std::ceil(d->bbox[3]))};
+			const PixelBox box = pixelBox(*d);
 			if (trace) {
 				trace->begin(sceneId, imId, d->categoryId, mIt->second->params().diameter);
 				auto gtIt = scene.gt.find(imId);
@@ -336,6 +452,25 @@ int runEstimate(const EstimateOptions &o)
 		     "p99 %.1f ms; wrote %s\n",
 		     done, rows.size(), noPose, skipped, 1e3 * percentile(boxTimes, 0.5),
 		     1e3 * percentile(boxTimes, 0.99), o.out.c_str());
+	if (tracker) {
+		const TrackingStats &t = tracker->stats();
+		std::fprintf(stderr,
+			     "ihf estimate: tracking: %d tracked, %d detected (%llu re-detected), %d deferred, %d duplicate; "
+			     "tracks started %llu, lost %llu; tracked box median %.2f ms p99 %.2f ms; detected box median "
+			     "%.1f ms p99 %.1f ms; frame overruns %llu, worst frame %.1f ms\n",
+			     modes[BoxMode::kTrack], modes[BoxMode::kDetect], static_cast<unsigned long long>(t.redetected),
+			     modes[BoxMode::kDeferred], modes[BoxMode::kDuplicate], static_cast<unsigned long long>(t.started),
+			     static_cast<unsigned long long>(t.lost), 1e3 * percentile(trackTimes, 0.5),
+			     1e3 * percentile(trackTimes, 0.99), 1e3 * percentile(detectTimes, 0.5),
+			     1e3 * percentile(detectTimes, 0.99), static_cast<unsigned long long>(t.frameOverruns),
+			     t.worstFrameNs * 1e-6);
+		std::fprintf(stderr, "ihf estimate: tracked poses not kept:");
+		for (size_t v = 1; v < t.rejected.size(); ++v)
+			if (t.rejected[v])
+				std::fprintf(stderr, " %s %llu;", trackVerdictName(static_cast<TrackVerdict>(v)),
+					     static_cast<unsigned long long>(t.rejected[v]));
+		std::fprintf(stderr, "\n");
+	}
 	EstimateRunSummary summary{estimator.stats(), s.limits, s.estimator.frameBudgetMs, boxTimes,
 				   boxKindName(s.boxKind), s.estimator.score};
 	printEstimateStats(stderr, summary);
@@ -383,6 +518,12 @@ void addEstimateCommand(CLI::App &root, Action &action)
 	cmd->add_flag("--quiet", opts->quiet, "Do not report per-box failures");
 	cmd->add_option("--trace", opts->trace,
 			"Write every scored hypothesis (and the ground truth's score, if known) as JSON lines");
+	cmd->add_flag("--sequence", opts->sequence,
+		      "Each scene is a stream (images in id order): boxes are tracked from frame to frame and "
+		      "detected only where needed, as ihf run does");
+	cmd->add_option("--run-config", opts->runConfig,
+			"With --sequence: the [tracking] settings of this device configuration (default: as shipped)")
+		->check(CLI::ExistingFile);
 	cmd->callback([opts, &action] { action = [opts] { return runEstimate(*opts); }; });
 }
 

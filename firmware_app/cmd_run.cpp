@@ -44,6 +44,7 @@ struct RunOptions {
 	double budgetMs = -1;         // --frame-budget-ms: drop late frames
 	double estimateBudgetMs = -1; // --budget-ms: the frame's estimation budget
 	std::string boxKind;          // --box-kind
+	bool noTracking = false;      // --no-tracking
 };
 
 int failWith(const std::string &message, int code = kExitFailure)
@@ -160,6 +161,15 @@ int runRun(const RunOptions &o)
 	SteadyPacingClock clock;
 	PoseStage stage(models, estimator, es->estimator, **feed, **output, clock,
 			std::chrono::milliseconds(rs.boxesTimeoutMs));
+	// Tracking follows each object from frame to frame; --vis pictures the
+	// cold estimator's iterations, so it detects every box.
+	std::unique_ptr<StreamEstimator> tracker;
+	if (rs.tracking.enabled && !o.noTracking && o.vis.empty()) {
+		tracker = std::make_unique<StreamEstimator>(estimator, rs.tracking);
+		if (!tracker->valid())
+			return failWith("the tracker's memory could not be allocated");
+		stage.setTracker(tracker.get());
+	}
 	std::unique_ptr<VisWriter> vis;
 	if (!o.vis.empty()) {
 		Expected<std::unique_ptr<VisWriter>> v = VisWriter::create(o.vis, es->limits);
@@ -247,6 +257,8 @@ void addRunCommand(CLI::App &root, Action &action)
 			"what the boxes bound: amodal (the whole object) or modal (its visible part, as most "
 			"detectors give); overrides [boxes] kind")
 		->check(CLI::IsMember({"amodal", "modal"}));
+	cmd->add_flag("--no-tracking", o->noTracking,
+		      "estimate every box afresh (no frame-to-frame tracking; overrides [tracking] enabled)");
 	cmd->add_option("--stats-interval", o->statsInterval, "seconds between stats lines on stderr (0: end only)")
 		->check(CLI::NonNegativeNumber);
 	cmd->add_option("--vis", o->vis, "write PNGs of each box's depth crop with the hypothesis silhouette per iteration");

@@ -632,7 +632,7 @@ Expected<RunSettings> loadRunConfig(const std::filesystem::path &path)
 	RunSettings s;
 	if (path.empty())
 		return s;
-	auto parsed = openConfig(path, {"source", "boxes", "output", "objects", "estimate", "run"});
+	auto parsed = openConfig(path, {"source", "boxes", "output", "objects", "estimate", "tracking", "run"});
 	if (!parsed)
 		return parsed.error();
 	const toml::table &root = *parsed;
@@ -701,6 +701,17 @@ Expected<RunSettings> loadRunConfig(const std::filesystem::path &path)
 			s.estimateConfig = (base / s.estimateConfig).lexically_normal();
 	}
 
+	TableReader tracking(root["tracking"].as_table(), file, "tracking");
+	TrackerConfig &tc = s.tracking;
+	tracking.get("enabled", tc.enabled);
+	tracking.get("match_iou", tc.matchIou);
+	tracking.get("max_missed_frames", tc.maxMissedFrames);
+	tracking.get("max_defer_frames", tc.maxDeferFrames);
+	tracking.get("detect_min_ms", tc.detectMinMs);
+	tracking.get("min_score", tc.minScore);
+	tracking.get("keep_share", tc.keepShare);
+	IHF_SECTION(tracking);
+
 	TableReader run(root["run"].as_table(), file, "run");
 	run.get("frame_budget_ms", s.frameBudgetMs);
 	run.get("stats_interval_s", s.statsIntervalS);
@@ -714,6 +725,12 @@ Expected<RunSettings> loadRunConfig(const std::filesystem::path &path)
 			  positive(s.retryBackoffMaxMs >= s.retryBackoffMs, "source.retry_backoff_max_ms"),
 			  positive(s.boxesTimeoutMs >= 0, "boxes.timeout_ms"),
 			  positive(s.frameBudgetMs >= 0, "run.frame_budget_ms"),
+			  positive(tc.matchIou > 0 && tc.matchIou <= 1, "tracking.match_iou"),
+			  positive(tc.maxMissedFrames >= 1, "tracking.max_missed_frames"),
+			  positive(tc.maxDeferFrames >= 1, "tracking.max_defer_frames"),
+			  positive(tc.detectMinMs >= 0, "tracking.detect_min_ms"),
+			  positive(tc.minScore >= 0 && tc.minScore <= 1, "tracking.min_score"),
+			  positive(tc.keepShare >= 0 && tc.keepShare <= 1, "tracking.keep_share"),
 			  positive(s.statsIntervalS >= 0, "run.stats_interval_s"),
 			  positive(s.maxFrames >= 0, "run.max_frames")})
 		if (!st)

@@ -19,6 +19,7 @@
 #include "core/forest/forest_view.h"
 #include "core/model/model_params.h"
 #include "core/training/training_set.h"
+#include "core/tracking/tracker_config.h"
 
 namespace ihf::app {
 
@@ -122,6 +123,9 @@ struct RunSettings {
 	std::filesystem::path estimateConfig; // empty: defaults
 	int iterations = -1; // overrides the estimation config when >= 0
 	double budgetMs = -1; // per-frame estimation budget; overrides the estimation config when >= 0
+	// [tracking] frame-to-frame tracking (core/tracking); enabled = false:
+	// every box a cold detection
+	TrackerConfig tracking;
 	// [run]
 	double frameBudgetMs = 0; // real time: frames older than this at their turn are dropped; 0: never
 	double statsIntervalS = 5; // periodic stats on stderr; 0: only at the end

@@ -172,6 +172,12 @@ Status PoseOutput::writePose(const PoseLine &p)
 	b.number(std::round(p.latencyMs * 1000) / 1000);
 	b.text(",\"estimate_ms\":");
 	b.number(std::round(p.estimateMs * 1000) / 1000);
+	if (p.mode) {
+		b.text(",\"mode\":\"");
+		b.text(p.mode);
+		b.text("\",\"track_id\":");
+		b.number(p.trackId);
+	}
 	b.text("}\n");
 	if (b.overflow())
 		return makeError(Errc::kCapacity, "pose line longer than the line buffer");
@@ -179,6 +185,11 @@ Status PoseOutput::writePose(const PoseLine &p)
 }
 
 Status PoseOutput::writeError(int64_t frame, int64_t objId, std::string_view message)
+{
+	return writeError(frame, objId, message, nullptr, 0);
+}
+
+Status PoseOutput::writeError(int64_t frame, int64_t objId, std::string_view message, const char *mode, int trackId)
 {
 	LineBuilder b(line_, sizeof(line_) - 8);
 	b.text("{");
@@ -190,6 +201,13 @@ Status PoseOutput::writeError(int64_t frame, int64_t objId, std::string_view mes
 	if (objId >= 0) {
 		b.text("\"obj_id\":");
 		b.number(objId);
+		b.text(",");
+	}
+	if (mode) {
+		b.text("\"mode\":\"");
+		b.text(mode);
+		b.text("\",\"track_id\":");
+		b.number(trackId);
 		b.text(",");
 	}
 	b.text("\"error\":\"");

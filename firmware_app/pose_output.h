@@ -20,7 +20,8 @@ namespace ihf::app {
 class BoxFeed;
 
 // One pose as written: {"frame","obj_id","R","t","confidence","score",
-// "margin","iterations","best_iteration","icp","latency_ms","estimate_ms"};
+// "margin","iterations","best_iteration","icp","latency_ms","estimate_ms"},
+// and with tracking "mode" ("track" or "detect") and "track_id";
 // numbers in their shortest exact form. confidence = score scaled by the
 // margin over the best different pose (rival_poses.h): a low confidence
 // with a high score means two poses fit alike, with a low score a poor fit.
@@ -30,6 +31,8 @@ struct PoseLine {
 	const PoseEstimate *estimate = nullptr;
 	double latencyMs = 0; // frame arrival -> pose written
 	double estimateMs = 0; // this box's estimation
+	const char *mode = nullptr; // tracking: "track" or "detect"; null: no tracking
+	int trackId = 0;
 };
 
 class PoseOutput
@@ -43,6 +46,9 @@ public:
 	Status writePose(const PoseLine &pose);
 	// {"frame": F, "obj_id": O, "error": "..."}; frame or obj_id -1 are left out.
 	Status writeError(int64_t frame, int64_t objId, std::string_view message);
+	// The same with the box's tracking mode and track (a deferred box, a
+	// tracked box without a pose).
+	Status writeError(int64_t frame, int64_t objId, std::string_view message, const char *mode, int trackId);
 	// Files: flush, sync and rename into place.
 	Status finish();
 

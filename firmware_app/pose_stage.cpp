@@ -9,6 +9,17 @@
 
 namespace ihf::app {
 
+namespace {
+
+// As ihf estimate turns a detection's box into pixels.
+PixelBox pixelBox(const FrameBox &b)
+{
+	return {static_cast<int>(std::floor(b.bbox[0])), static_cast<int>(std::floor(b.bbox[1])),
+		static_cast<int>(std::ceil(b.bbox[2])), static_cast<int>(std::ceil(b.bbox[3]))};
+}
+
+} // namespace
+
 PoseStage::PoseStage(std::map<int, const ObjectModel *> models, PoseEstimator &estimator,
 		     const EstimatorConfig &config, BoxFeed &feed, PoseOutput &output, PacingClock &clock,
 		     std::chrono::milliseconds boxesTimeout)
@@ -52,6 +63,10 @@ Status PoseStage::process(const Frame &frame, int64_t arrivalNs)
 	}
 	if (*waited != BoxWait::kBoxes || feed_.boxes().empty()) {
 		++counters_.framesWithoutBoxes;
+		// A frame the detector saw nothing in ages the tracks, as in
+		// ihf estimate --sequence.
+		if (tracker_ && *waited == BoxWait::kBoxes)
+			tracker_->estimateFrame(frame.index, {}, frame.intrinsics, {}, config_, config_.frameBudgetMs, {});
 		return {};
 	}
 
@@ -70,6 +85,8 @@ Status PoseStage::process(const Frame &frame, int64_t arrivalNs)
 	K.width = raw.width;
 	K.height = raw.height;
 
+	if (tracker_)
+		return processTracked(frame, K, arrivalNs);
 	// The frame's boxes share the estimator's frame budget.
 	struct FrameScope {
 		PoseEstimator &e;
@@ -87,9 +104,7 @@ Status PoseStage::process(const Frame &frame, int64_t arrivalNs)
 				return st;
 			continue;
 		}
-		// As ihf estimate turns a detection's box into pixels.
-		const PixelBox box{static_cast<int>(std::floor(b.bbox[0])), static_cast<int>(std::floor(b.bbox[1])),
-				   static_cast<int>(std::ceil(b.bbox[2])), static_cast<int>(std::ceil(b.bbox[3]))};
+		const PixelBox box = pixelBox(b);
 		if (observer_)
 			observer_->begin(frame.index, b.objId, box);
 		const int64_t t0 = clock_.nowNs();
@@ -97,26 +112,80 @@ Status PoseStage::process(const Frame &frame, int64_t arrivalNs)
 		const int64_t t1 = clock_.nowNs();
 		if (observer_)
 			observer_->end(depthMm_.view(), K, *it->second, e);
-		if (!e.found) {
-			++counters_.noPose;
-			char msg[160];
-			std::snprintf(msg, sizeof(msg), "no pose: %s", e.reason);
-			if (Status st = output_.writeError(static_cast<int64_t>(frame.index), b.objId, msg); !st)
-				return st;
-			continue;
-		}
-		++counters_.poses;
-		PoseLine line;
-		line.frame = frame.index;
-		line.objId = b.objId;
-		line.estimate = &e;
-		line.estimateMs = (t1 - t0) * 1e-6;
-		line.latencyMs = (clock_.nowNs() - arrivalNs) * 1e-6;
-		latencies_[latencyCount_++ % latencies_.size()] = line.latencyMs;
-		if (Status st = output_.writePose(line); !st)
+		if (Status st = writeResult(frame.index, b.objId, e, (t1 - t0) * 1e-6, arrivalNs, nullptr, 0); !st)
 			return st;
 	}
 	return {};
+}
+
+Status PoseStage::processTracked(const Frame &frame, const CameraIntrinsics &K, int64_t arrivalNs)
+{
+	const std::span<const FrameBox> boxes = feed_.boxes();
+	const size_t n = std::min(boxes.size(), streamBoxes_.size());
+	for (size_t i = 0; i < n; ++i) {
+		const FrameBox &b = boxes[i];
+		auto it = models_.find(b.objId);
+		streamBoxes_[i] = StreamBox{b.objId, pixelBox(b), b.trackId, it == models_.end() ? nullptr : it->second};
+	}
+	tracker_->estimateFrame(frame.index, depthMm_.view(), K, std::span<const StreamBox>(streamBoxes_.data(), n),
+				config_, config_.frameBudgetMs, std::span<StreamResult>(streamResults_.data(), n));
+	for (size_t i = 0; i < boxes.size(); ++i) {
+		++counters_.boxes;
+		const int objId = boxes[i].objId;
+		if (i >= n) {
+			if (Status st = output_.writeError(static_cast<int64_t>(frame.index), objId,
+							   "more boxes in the frame than the tracker holds");
+			    !st)
+				return st;
+			continue;
+		}
+		if (!streamBoxes_[i].model) {
+			++counters_.unknownObject;
+			char msg[64];
+			std::snprintf(msg, sizeof(msg), "no forest for object %d", objId);
+			if (Status st = output_.writeError(static_cast<int64_t>(frame.index), objId, msg); !st)
+				return st;
+			continue;
+		}
+		const StreamResult &r = streamResults_[i];
+		if (r.mode == BoxMode::kDeferred) {
+			++counters_.deferred;
+			if (Status st = output_.writeError(static_cast<int64_t>(frame.index), objId,
+							   "deferred: waits for a detection in a later frame",
+							   boxModeName(r.mode), r.trackId);
+			    !st)
+				return st;
+			continue;
+		}
+		if (Status st = writeResult(frame.index, objId, r.estimate, r.ns * 1e-6, arrivalNs, boxModeName(r.mode),
+					    r.trackId);
+		    !st)
+			return st;
+	}
+	return {};
+}
+
+Status PoseStage::writeResult(uint64_t frame, int objId, const PoseEstimate &e, double estimateMs,
+			      int64_t arrivalNs, const char *mode, int trackId)
+{
+	if (!e.found) {
+		++counters_.noPose;
+		char msg[160];
+		std::snprintf(msg, sizeof(msg), "no pose: %s", e.reason);
+		return mode ? output_.writeError(static_cast<int64_t>(frame), objId, msg, mode, trackId)
+			    : output_.writeError(static_cast<int64_t>(frame), objId, msg);
+	}
+	++counters_.poses;
+	PoseLine line;
+	line.frame = frame;
+	line.objId = objId;
+	line.estimate = &e;
+	line.estimateMs = estimateMs;
+	line.latencyMs = (clock_.nowNs() - arrivalNs) * 1e-6;
+	line.mode = mode;
+	line.trackId = trackId;
+	latencies_[latencyCount_++ % latencies_.size()] = line.latencyMs;
+	return output_.writePose(line);
 }
 
 void PoseStage::describe(std::string &line) const
@@ -129,6 +198,17 @@ void PoseStage::describe(std::string &line) const
 		      static_cast<unsigned long long>(counters_.unknownObject),
 		      static_cast<unsigned long long>(counters_.inputErrors));
 	line += buf;
+	if (tracker_) {
+		const TrackingStats &t = tracker_->stats();
+		std::snprintf(buf, sizeof(buf),
+			      "; tracking: tracked %llu detected %llu (re-detected %llu) deferred %llu forced %llu "
+			      "duplicates %llu tracks started %llu lost %llu",
+			      static_cast<unsigned long long>(t.tracked), static_cast<unsigned long long>(t.detected),
+			      static_cast<unsigned long long>(t.redetected), static_cast<unsigned long long>(t.deferred),
+			      static_cast<unsigned long long>(t.forced), static_cast<unsigned long long>(t.duplicates),
+			      static_cast<unsigned long long>(t.started), static_cast<unsigned long long>(t.lost));
+		line += buf;
+	}
 	if (config_.frameBudgetMs > 0) {
 		// What the device's frame budget cost: the same counts as ihf estimate's.
 		const EstimatorStats st = estimator_.stats();

@@ -7,6 +7,9 @@
 // with its object's forest, and write a pose line, or an error line for a
 // box whose object has no forest, a box without a pose, or a box line that
 // did not parse; the other boxes go on. Buffers are sized in prepare().
+// With a StreamEstimator the frame's boxes go to it instead (tracked where
+// a track holds, detected where needed, core/tracking/stream_estimator.h),
+// and every line carries the box's mode and track.
 
 #include <array>
 #include <chrono>
@@ -15,6 +18,7 @@
 #include <vector>
 
 #include "core/estimation/pose_estimator.h"
+#include "core/tracking/stream_estimator.h"
 #include "drivers/clock.h"
 #include "firmware_app/box_feed.h"
 #include "firmware_app/pose_output.h"
@@ -30,6 +34,7 @@ struct PoseStageCounters {
 	uint64_t noPose = 0;
 	uint64_t unknownObject = 0;
 	uint64_t inputErrors = 0; // malformed box lines or boxes
+	uint64_t deferred = 0; // boxes answered as waiting for a detection
 };
 
 // Sees each box's estimation (the --vis pictures): begin() before the
@@ -52,6 +57,9 @@ public:
 		  std::chrono::milliseconds boxesTimeout);
 
 	void setBoxObserver(BoxObserver *observer) { observer_ = observer; }
+	// Frame-to-frame tracking (null: every box a cold estimate). Not owned;
+	// on the estimator given above.
+	void setTracker(StreamEstimator *tracker) { tracker_ = tracker; }
 
 	Status prepare(const SourceInfo &info) override;
 	Status process(const Frame &frame, int64_t arrivalNs) override;
@@ -68,7 +76,14 @@ private:
 	PoseOutput &output_;
 	PacingClock &clock_;
 	std::chrono::milliseconds boxesTimeout_;
+	Status processTracked(const Frame &frame, const CameraIntrinsics &K, int64_t arrivalNs);
+	Status writeResult(uint64_t frame, int objId, const PoseEstimate &e, double estimateMs, int64_t arrivalNs,
+			   const char *mode, int trackId);
+
 	BoxObserver *observer_ = nullptr;
+	StreamEstimator *tracker_ = nullptr;
+	std::array<StreamBox, StreamEstimator::kMaxBoxes> streamBoxes_{};
+	std::array<StreamResult, StreamEstimator::kMaxBoxes> streamResults_{};
 	Image<float> depthMm_;
 	PoseStageCounters counters_;
 	bool interrupted_ = false;

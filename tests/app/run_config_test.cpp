@@ -48,6 +48,14 @@ poses = "file:out/poses.jsonl"
 [estimate]
 config = "estimate.toml"
 iterations = 3
+[tracking]
+enabled = false
+match_iou = 0.4
+max_missed_frames = 9
+max_defer_frames = 2
+detect_min_ms = 12.5
+min_score = 0.35
+keep_share = 0.6
 [run]
 frame_budget_ms = 66.5
 stats_interval_s = 2
@@ -72,6 +80,13 @@ max_frames = 100
 	EXPECT_EQ(s->forests.at(5), fs::path("/abs/can.ihf"));
 	EXPECT_EQ(s->estimateConfig, dir / "estimate.toml");
 	EXPECT_EQ(s->iterations, 3);
+	EXPECT_FALSE(s->tracking.enabled);
+	EXPECT_FLOAT_EQ(s->tracking.matchIou, 0.4f);
+	EXPECT_EQ(s->tracking.maxMissedFrames, 9);
+	EXPECT_EQ(s->tracking.maxDeferFrames, 2);
+	EXPECT_FLOAT_EQ(s->tracking.detectMinMs, 12.5f);
+	EXPECT_FLOAT_EQ(s->tracking.minScore, 0.35f);
+	EXPECT_FLOAT_EQ(s->tracking.keepShare, 0.6f);
 	EXPECT_EQ(s->frameBudgetMs, 66.5);
 	EXPECT_EQ(s->statsIntervalS, 2.0);
 	EXPECT_EQ(s->maxFrames, 100);
@@ -111,6 +126,10 @@ TEST(RunConfig, ErrorsNameTheFileAndKey)
 	ASSERT_FALSE(range.ok());
 	EXPECT_NE(range.error().message.find("source.retry_backoff_max_ms"), std::string::npos);
 
+	auto defer = loadRunConfig(writeConfig("defer", "[tracking]\nmax_defer_frames = 0\n"));
+	ASSERT_FALSE(defer.ok());
+	EXPECT_NE(defer.error().message.find("tracking.max_defer_frames"), std::string::npos);
+
 	auto section = loadRunConfig(writeConfig("section", "[sources]\n"));
 	ASSERT_FALSE(section.ok());
 	EXPECT_NE(section.error().message.find("unknown section [sources]"), std::string::npos);
@@ -122,6 +141,13 @@ TEST(RunConfig, TheBundledDeviceConfigLoads)
 	ASSERT_TRUE(s.ok()) << s.error().message;
 	EXPECT_FALSE(s->sourceUri.empty());
 	EXPECT_FALSE(s->forests.empty());
+	// Its [tracking] keys are the code's defaults, which ihf estimate
+	// --sequence uses.
+	const TrackerConfig d;
+	EXPECT_EQ(s->tracking.enabled, d.enabled);
+	EXPECT_EQ(s->tracking.maxMissedFrames, d.maxMissedFrames);
+	EXPECT_EQ(s->tracking.maxDeferFrames, d.maxDeferFrames);
+	EXPECT_EQ(s->tracking.detectMinMs, d.detectMinMs);
 }
 
 // Offline estimation measures the full method: no budget unless configured,

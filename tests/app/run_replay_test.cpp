@@ -123,6 +123,8 @@ protected:
 		ASSERT_EQ(r.exitCode, 0) << r.output;
 		r = runIhf(estimateCommand(d, d / "est.csv"));
 		ASSERT_EQ(r.exitCode, 0) << r.output;
+		r = runIhf(estimateCommand(d, d / "est_sequence.csv", "--sequence"));
+		ASSERT_EQ(r.exitCode, 0) << r.output;
 
 		// The same boxes, plus one for an object without a forest in the first frame.
 		std::ifstream in(d / "boxes.jsonl");
@@ -137,13 +139,18 @@ protected:
 			out << j.dump() << "\n";
 		}
 		out.close();
-		std::ofstream(d / "device.toml")
-			<< "[source]\nuri = \"recording:ds.rec\"\n"
-			<< "[boxes]\ninput = \"file:boxes_unknown.jsonl\"\ntimeout_ms = 20000\n"
-			<< "[output]\nposes = \"file:poses.jsonl\"\n"
-			<< "[objects]\n20 = \"bunny.ihf\"\n"
-			<< "[estimate]\nconfig = \"" << (sourceDir() / "config" / "estimate.toml").string() << "\"\n"
-			<< "[run]\nstats_interval_s = 0\n";
+		// Every box a cold estimate, as ihf estimate without --sequence;
+		// device_tracking.toml tracks, as ihf estimate --sequence.
+		for (const bool tracking : {false, true})
+			std::ofstream(d / (tracking ? "device_tracking.toml" : "device.toml"))
+				<< "[source]\nuri = \"recording:ds.rec\"\n"
+				<< "[boxes]\ninput = \"file:" << (tracking ? "boxes.jsonl" : "boxes_unknown.jsonl")
+				<< "\"\ntimeout_ms = 20000\n"
+				<< "[output]\nposes = \"file:" << (tracking ? "poses_tracking.jsonl" : "poses.jsonl") << "\"\n"
+				<< "[objects]\n20 = \"bunny.ihf\"\n"
+				<< "[estimate]\nconfig = \"" << (sourceDir() / "config" / "estimate.toml").string() << "\"\n"
+				<< "[tracking]\nenabled = " << (tracking ? "true" : "false") << "\n"
+				<< "[run]\nstats_interval_s = 0\n";
 	}
 	static void TearDownTestSuite() { delete dir_; }
 
@@ -202,6 +209,27 @@ TEST_F(RunReplay, SamePosesAsEstimateAndAnErrorLineForAnUnknownObject)
 	EXPECT_EQ(got.errors[0]["obj_id"], 99);
 	EXPECT_EQ(got.errors[0]["error"], "no forest for object 99");
 	EXPECT_EQ(got.errors[0]["frame"], expected.begin()->first.frame);
+}
+
+// With tracking, `ihf run` on the recording gives exactly the poses of
+// `ihf estimate --sequence` on the dataset, and says how each was found.
+TEST_F(RunReplay, TrackingGivesTheSamePosesAsEstimateSequence)
+{
+	const fs::path &d = *dir_;
+	CommandResult r = runIhf("run --config " + q(d / "device_tracking.toml"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("tracking: tracked"), std::string::npos) << r.output;
+	const auto expected = estimateRows(d / "est_sequence.csv");
+	ASSERT_GE(expected.size(), 2u);
+	const RunOutput got = readRunOutput(d / "poses_tracking.jsonl");
+	ASSERT_NO_FATAL_FAILURE(expectSamePoses(got, expected, r.output));
+	for (const auto &[key, j] : got.poses) {
+		ASSERT_TRUE(j.contains("mode")) << j.dump();
+		EXPECT_TRUE(j["mode"] == "track" || j["mode"] == "detect") << j.dump();
+		EXPECT_GT(j["track_id"].get<int>(), 0);
+	}
+	// The first frame can only be detected.
+	EXPECT_EQ(got.poses.begin()->second["mode"], "detect");
 }
 
 // The kind of box reaches the estimator the same way in both commands: with
