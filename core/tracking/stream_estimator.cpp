@@ -312,8 +312,11 @@ void StreamEstimator::detectBoxes(uint64_t frame, ImageView<const float> depth, 
 					   : (leftMs > 0 ? wanted : 0);
 		run = std::max(due, std::min(wanted, fit));
 		stats_.forced += due > fit ? due - fit : 0;
-		// Never 0 or less: that would be an unlimited frame.
-		shareMs = static_cast<float>(std::max(leftMs, 1e-3));
+		// A due detection gets detectMinMs even past the frame's end (an
+		// overrun, counted): one cut to its registration alone would start
+		// its track from a guess.
+		shareMs = static_cast<float>(
+			std::max({leftMs, static_cast<double>(run) * static_cast<double>(config_.detectMinMs), 1e-3}));
 	}
 	if (run > 0) {
 		detector_.beginFrame(static_cast<int>(run), unlimited ? 0.0f : shareMs);

@@ -18,8 +18,9 @@ struct TrackerConfig {
 	float matchIou = 0.3f;
 	// A track with no box for this many frames in a row ends (lost).
 	int maxMissedFrames = 5;
-	// A box waiting for a detection gets one within this many frames
-	// (the last one runs whatever the time left).
+	// A box waiting for a detection gets one within this many frames (in
+	// the last one it runs whatever the time left, with detectMinMs of time
+	// even past the frame's end: an overrun, counted).
 	int maxDeferFrames = 3;
 	// A detection runs in a budgeted frame only with at least this much of
 	// the frame left for it (ms), unless it is due (maxDeferFrames).
