@@ -250,6 +250,7 @@ void StreamEstimator::place(Track &t, const PoseEstimate &e, uint64_t frame, boo
 		t.detectionScore = e.score.score;
 		t.detectionMargin = e.margin;
 		t.detectedOnce = true;
+		t.detectedFrame = frame;
 	}
 	t.pose = e.pose;
 	t.lastFrame = frame;
@@ -360,6 +361,60 @@ void StreamEstimator::detectBoxes(uint64_t frame, ImageView<const float> depth, 
 	}
 }
 
+void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
+				    std::span<const StreamBox> boxes, const EstimatorConfig &config, int64_t deadline,
+				    std::span<StreamResult> results)
+{
+	if (deadline == std::numeric_limits<int64_t>::max() || !(config_.detectMinMs > 0))
+		return;
+	// Only when no box of the frame still waits for its detection.
+	size_t tracked = 0;
+	for (size_t i = 0; i < boxes.size(); ++i) {
+		if (results[i].mode == BoxMode::kDeferred)
+			return;
+		if (results[i].mode == BoxMode::kTrack)
+			order_[tracked++] = static_cast<int>(i);
+	}
+	const double leftMs = static_cast<double>(deadline - clock_.nowNs()) * 1e-6;
+	const size_t run = std::min(tracked, static_cast<size_t>(std::max(0.0, leftMs / config_.detectMinMs)));
+	if (run == 0)
+		return;
+	// The track detected longest ago first.
+	const auto age = [&](size_t k) { return frame - trackOf_[static_cast<size_t>(order_[k])]->detectedFrame; };
+	for (size_t k = 1; k < tracked; ++k)
+		for (size_t j = k; j > 0 && age(j - 1) < age(j); --j)
+			std::swap(order_[j - 1], order_[j]);
+	detector_.beginFrame(static_cast<int>(run), static_cast<float>(leftMs));
+	for (size_t k = 0; k < run; ++k) {
+		const size_t i = static_cast<size_t>(order_[k]);
+		Track &t = *trackOf_[i];
+		StreamResult &r = results[i];
+		const int64_t t0 = clock_.nowNs();
+		const PoseEstimate e = detector_.estimate(depth, K, boxes[i].box, *t.model, config);
+		const int64_t ns = clock_.nowNs() - t0;
+		count(stats_.detectTime, ns);
+		++stats_.refreshed;
+		if (e.found && e.score.score > r.estimate.score.score) {
+			++stats_.refreshWins;
+			r.mode = BoxMode::kDetect;
+			r.estimate = e;
+			r.startNs = t0;
+			r.ns += ns;
+			// The object is where it was tracked: its motion stands too.
+			const Pose velocity = t.velocity;
+			const bool near = (e.pose.t - t.pose.t).norm() < config_.maxStepShare * t.model->params().diameter &&
+					  rotationAngle(e.pose.R, t.pose.R) < config_.maxStepDeg * M_PI / 180.0;
+			place(t, e, frame, false);
+			if (near)
+				t.velocity = velocity;
+		} else {
+			// The tracked pose stands, confirmed: it counts as detected now.
+			t.detectedFrame = frame;
+		}
+	}
+	detector_.endFrame();
+}
+
 void StreamEstimator::endUnmatched()
 {
 	for (Track &t : tracks_) {
@@ -409,6 +464,8 @@ void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth
 			needsDetection_[i] = true;
 	}
 	detectBoxes(frame, depth, K, held, config, deadline, results);
+	if (config_.refresh)
+		refreshTracks(frame, depth, K, held, config, deadline, results);
 	for (size_t i = 0; i < n; ++i) {
 		if (duplicateOf_[i] < 0)
 			continue;

@@ -65,6 +65,8 @@ struct TrackingStats {
 	uint64_t redetected = 0;  // of those, after a tracked pose was not kept
 	uint64_t deferred = 0;    // detections moved to a later frame
 	uint64_t forced = 0;      // detections run though the frame had no room (due)
+	uint64_t refreshed = 0;   // tracked boxes detected again with the frame's spare time
+	uint64_t refreshWins = 0; // of those, the detection scored higher and replaced the track
 	uint64_t duplicates = 0;
 	uint64_t skipped = 0;
 	uint64_t started = 0;     // tracks begun
@@ -116,6 +118,9 @@ private:
 	void detectBoxes(uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
 			 std::span<const StreamBox> boxes, const EstimatorConfig &config, int64_t deadline,
 			 std::span<StreamResult> results);
+	void refreshTracks(uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
+			   std::span<const StreamBox> boxes, const EstimatorConfig &config, int64_t deadline,
+			   std::span<StreamResult> results);
 	void place(Track &t, const PoseEstimate &e, uint64_t frame, bool fromTrack);
 	void endUnmatched();
 

@@ -33,6 +33,7 @@ struct Track {
 	float detectionScore = 0;  // the score and margin its pose was detected with
 	float detectionMargin = 0;
 	bool detectedOnce = false; // a detection has placed it (a re-detection is counted as such)
+	uint64_t detectedFrame = 0; // the frame of its last detection
 	bool matched = false;      // in the current frame
 };
 

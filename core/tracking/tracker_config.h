@@ -25,6 +25,13 @@ struct TrackerConfig {
 	// A detection runs in a budgeted frame only with at least this much of
 	// the frame left for it (ms), unless it is due (maxDeferFrames).
 	float detectMinMs = 10.0f;
+	// Time a budgeted frame has left after its tracked boxes and the
+	// detections it needs goes to detecting tracked boxes again, the track
+	// detected longest ago first (detectMinMs each); the detection's pose
+	// replaces the tracked one when it scores higher. A track started from
+	// a poor detection (a short share, the object half hidden) is then not
+	// followed for long. Unbudgeted frames never refresh.
+	bool refresh = true;
 	// The tracked polish: ICP from the predicted pose on the box's crop
 	// cut to the prediction's depth range.
 	IcpConfig icp{8, 25.0f, 6.0f, 30, false};

@@ -251,6 +251,37 @@ TEST_F(StreamEstimatorTest, TrackedBoxesRunFirstAndDetectionsThatDoNotFitWait)
 	EXPECT_EQ(stream.stats().maxWait, 2);
 }
 
+TEST_F(StreamEstimatorTest, SpareTimeInABudgetedFrameDetectsATrackedBoxAgain)
+{
+	test::StepClock clock(kMs);
+	PoseEstimator detector({}, &clock);
+	TrackerConfig tc;
+	tc.detectMinMs = 20;
+	StreamEstimator stream(detector, tc, &clock);
+	const Scene s0 = render({moved(start(), 0)});
+	run(stream, 0, s0, boxesOf(s0), 500);
+	const Scene s1 = render({moved(start(), 1)});
+	// Unbudgeted: tracked, nothing more.
+	std::vector<StreamResult> r = run(stream, 1, s1, boxesOf(s1));
+	EXPECT_EQ(r[0].mode, BoxMode::kTrack);
+	EXPECT_EQ(stream.stats().refreshed, 0u);
+	// Budgeted with time to spare: detected again, and the better of the
+	// two poses kept.
+	const Scene s2 = render({moved(start(), 2)});
+	r = run(stream, 2, s2, boxesOf(s2), 500);
+	EXPECT_EQ(stream.stats().refreshed, 1u);
+	ASSERT_TRUE(r[0].estimate.found);
+	EXPECT_LT(mm(r[0].estimate.pose, moved(start(), 2)), 5.0);
+	// Without refresh, the same frame only tracks.
+	TrackerConfig off = tc;
+	off.refresh = false;
+	StreamEstimator plain(detector, off, &clock);
+	run(plain, 0, s0, boxesOf(s0), 500);
+	run(plain, 1, s1, boxesOf(s1), 500);
+	EXPECT_EQ(plain.stats().refreshed, 0u);
+	EXPECT_EQ(plain.stats().tracked, 1u);
+}
+
 TEST_F(StreamEstimatorTest, ANewBoxWaitsBehindOneThatWaitedLonger)
 {
 	test::StepClock clock(kMs);
