@@ -269,7 +269,7 @@ int runEstimate(const EstimateOptions &o)
 	bool warmedUp = false;
 	int streamScene = -1;
 	std::map<BoxMode, int> modes;
-	std::vector<double> trackTimes, detectTimes;
+	std::vector<double> trackTimes, detectTimes, frameTimes;
 	for (const auto &[key, boxes] : perImage) {
 		auto [sceneId, imId] = key;
 		if (!scenes.count(sceneId)) {
@@ -342,8 +342,11 @@ int runEstimate(const EstimateOptions &o)
 				streamDets.push_back(d);
 			}
 			std::vector<StreamResult> results(streamBoxes.size());
+			const auto f0 = std::chrono::steady_clock::now();
 			tracker->estimateFrame(static_cast<uint64_t>(imId), depth->view(), K, streamBoxes, s.estimator,
 					       s.estimator.frameBudgetMs, results);
+			if (!streamBoxes.empty())
+				frameTimes.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count());
 			std::vector<ResultRow> imageRows;
 			double imageTime = 0;
 			for (size_t i = 0; i < results.size(); ++i) {
@@ -464,6 +467,12 @@ int runEstimate(const EstimateOptions &o)
 			     1e3 * percentile(trackTimes, 0.99), 1e3 * percentile(detectTimes, 0.5),
 			     1e3 * percentile(detectTimes, 0.99), static_cast<unsigned long long>(t.frameOverruns),
 			     t.worstFrameNs * 1e-6);
+		std::fprintf(stderr,
+			     "ihf estimate: tracking: frames with boxes %zu, frame median %.1f ms p99 %.1f ms; "
+			     "refreshed %llu (%llu won), forced %llu, longest wait %d frames\n",
+			     frameTimes.size(), 1e3 * percentile(frameTimes, 0.5), 1e3 * percentile(frameTimes, 0.99),
+			     static_cast<unsigned long long>(t.refreshed), static_cast<unsigned long long>(t.refreshWins),
+			     static_cast<unsigned long long>(t.forced), t.maxWait);
 		std::fprintf(stderr, "ihf estimate: tracked poses not kept:");
 		for (size_t v = 1; v < t.rejected.size(); ++v)
 			if (t.rejected[v])
