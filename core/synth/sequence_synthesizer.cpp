@@ -85,6 +85,8 @@ Expected<SequenceFrame> SequenceSynthesizer::frame(const SequenceScene &scene, i
 		if (visible[i] == 0)
 			continue;
 		auto sil = renderer_.silhouette(layout.objects[i], view);
+		if (!sil && sil.error().code == Errc::kOutOfRange)
+			continue; // reaches behind the lens: nearer than any sensor sees
 		if (!sil)
 			return sil.error();
 		const TargetSlot &slot = scene.targets[slotOf[i]];
