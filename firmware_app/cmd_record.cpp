@@ -9,7 +9,6 @@
 // a wrong calibration. BOP has no timestamps: frame i (0-based) gets device
 // and host timestamps i / fps.
 
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,12 +16,10 @@
 #include <memory>
 #include <string>
 
-#include "core/dataset/bop_dataset.h"
-#include "core/dataset/atomic_file.h"
-#include "core/dataset/bop_io.h"
 #include "drivers/recording_reader.h"
 #include "drivers/recording_writer.h"
 #include "drivers/source_factory.h"
+#include "firmware_app/bop_recording.h"
 #include "firmware_app/command.h"
 
 namespace ihf::app {
@@ -45,140 +42,26 @@ struct RecordOptions {
 	std::string boxesOut; // written as `ihf run` box lines
 };
 
-// The detections of one scene as `ihf run` box lines, one per recorded
-// image (frame index = image id), numbers exact.
-Status writeBoxLines(const std::string &out, const std::vector<Detection> &dets, int sceneId,
-		     const std::map<int, SceneCamera> &images)
-{
-	auto num = [](std::string &s, double v) {
-		char buf[32];
-		auto [p, ec] = std::to_chars(buf, buf + sizeof(buf), v);
-		s.append(buf, ec == std::errc() ? p : buf);
-	};
-	std::string text;
-	for (const auto &[imId, cam] : images) {
-		text += "{\"frame\":" + std::to_string(imId) + ",\"boxes\":[";
-		bool first = true;
-		for (const Detection &d : dets) {
-			if (d.sceneId != sceneId || d.imageId != imId)
-				continue;
-			text += first ? "" : ",";
-			first = false;
-			text += "{\"obj_id\":" + std::to_string(d.categoryId) + ",\"bbox\":[";
-			for (int k = 0; k < 4; ++k) {
-				if (k)
-					text += ",";
-				num(text, d.bbox[k]);
-			}
-			text += "]}";
-		}
-		text += "]}\n";
-	}
-	return writeFileAtomic(out, text);
-}
-
-bool sameCamera(const SceneCamera &a, const SceneCamera &b)
-{
-	const CameraIntrinsics &p = a.intrinsics, &q = b.intrinsics;
-	return p.fx == q.fx && p.fy == q.fy && p.cx == q.cx && p.cy == q.cy &&
-	       a.depthScale == b.depthScale;
-}
-
 int recordFromBop(const RecordOptions &o)
 {
-	Expected<BopDataset> ds = BopDataset::open(o.fromBop, o.split);
-	if (!ds) {
-		std::fprintf(stderr, "ihf record: %s\n", ds.error().message.c_str());
-		return kExitFailure;
+	BopRecordingRequest req;
+	req.dataset = o.fromBop;
+	req.split = o.split;
+	req.sceneId = o.scene;
+	req.out = o.out;
+	req.fps = o.fps;
+	req.compress = o.compress;
+	req.boxes = o.boxes;
+	req.boxesOut = o.boxesOut;
+	Expected<BopRecordingResult> made = recordBopScene(req);
+	if (!made) {
+		std::fprintf(stderr, "ihf record: %s\n", made.error().message.c_str());
+		return made.error().code == Errc::kInvalidArgument ? kExitUsage : kExitFailure;
 	}
-	int sceneId = o.scene;
-	if (sceneId < 0) {
-		const std::vector<int> ids = ds->sceneIds();
-		if (ids.size() != 1) {
-			std::string list;
-			for (int id : ids)
-				list += (list.empty() ? "" : ", ") + std::to_string(id);
-			std::fprintf(stderr, "ihf record: %s/%s has %zu scenes (%s); choose one with --scene\n",
-				     o.fromBop.c_str(), ds->split().c_str(), ids.size(), list.c_str());
-			return kExitUsage;
-		}
-		sceneId = ids.front();
-	}
-	Expected<BopScene> scene = ds->loadScene(sceneId);
-	if (!scene) {
-		std::fprintf(stderr, "ihf record: %s\n", scene.error().message.c_str());
-		return kExitFailure;
-	}
-	if (scene->cameras.empty()) {
-		std::fprintf(stderr, "ihf record: %s: scene_camera.json lists no images\n",
-			     ds->sceneDir(sceneId).string().c_str());
-		return kExitFailure;
-	}
-
-	const auto &[firstId, firstCam] = *scene->cameras.begin();
-	for (const auto &[imId, cam] : scene->cameras) {
-		if (!sameCamera(cam, firstCam)) {
-			std::fprintf(stderr,
-				     "ihf record: %s: image %d has a different cam_K or depth_scale than image %d; "
-				     "a recording has one camera (split the scene)\n",
-				     (ds->sceneDir(sceneId) / "scene_camera.json").string().c_str(), imId, firstId);
-			return kExitFailure;
-		}
-	}
-
-	recording::RecordingHeader header;
-	header.sensorId = "bop:" + std::filesystem::path(o.fromBop).filename().string() + "/" +
-			  ds->split() + "/" + std::to_string(sceneId);
-	header.intrinsics = firstCam.intrinsics;
-	header.depthScale = firstCam.depthScale;
-	RecordingWriterOptions wo;
-	wo.compress = o.compress;
-	Expected<RecordingWriter> writer = RecordingWriter::create(o.out, header, wo);
-	if (!writer) {
-		std::fprintf(stderr, "ihf record: %s\n", writer.error().message.c_str());
-		return kExitFailure;
-	}
-
-	int64_t n = 0;
-	for (const auto &[imId, cam] : scene->cameras) {
-		const std::filesystem::path png = ds->depthPath(sceneId, imId);
-		Expected<DepthImage16> depth = readDepthPng(png);
-		if (!depth) {
-			std::fprintf(stderr, "ihf record: %s\n", depth.error().message.c_str());
-			return kExitFailure;
-		}
-		if (depth->width() != header.intrinsics.width || depth->height() != header.intrinsics.height) {
-			std::fprintf(stderr, "ihf record: %s: image is %dx%d, camera.json says %dx%d\n",
-				     png.string().c_str(), depth->width(), depth->height(),
-				     header.intrinsics.width, header.intrinsics.height);
-			return kExitFailure;
-		}
-		const int64_t t = std::llround(static_cast<double>(n) * 1e9 / o.fps);
-		FrameStamp stamp{static_cast<uint64_t>(imId), t, t};
-		if (Status s = writer->append(stamp, depth->view()); !s) {
-			std::fprintf(stderr, "ihf record: %s\n", s.error().message.c_str());
-			return kExitFailure;
-		}
-		++n;
-	}
-	if (Status s = writer->finish(); !s) {
-		std::fprintf(stderr, "ihf record: %s\n", s.error().message.c_str());
-		return kExitFailure;
-	}
-	std::fprintf(stderr, "ihf record: %lld frames of %s scene %d -> %s\n", static_cast<long long>(n),
-		     o.fromBop.c_str(), sceneId, o.out.c_str());
-	if (!o.boxesOut.empty()) {
-		Expected<std::vector<Detection>> dets = readDetections(o.boxes);
-		if (!dets) {
-			std::fprintf(stderr, "ihf record: %s\n", dets.error().message.c_str());
-			return kExitFailure;
-		}
-		if (Status st = writeBoxLines(o.boxesOut, *dets, sceneId, scene->cameras); !st) {
-			std::fprintf(stderr, "ihf record: %s\n", st.error().message.c_str());
-			return kExitFailure;
-		}
+	std::fprintf(stderr, "ihf record: %lld frames of %s scene %d -> %s\n",
+		     static_cast<long long>(made->frames), o.fromBop.c_str(), made->sceneId, o.out.c_str());
+	if (!o.boxesOut.empty())
 		std::fprintf(stderr, "ihf record: box lines of %s -> %s\n", o.boxes.c_str(), o.boxesOut.c_str());
-	}
 	return kExitOk;
 }
 

@@ -161,14 +161,18 @@ bool LayoutSampler::fits(const SceneLayout &layout, const SceneObject &obj, int 
 	}
 	// Keep clear of the camera (the Kinect sees nothing nearer than ~0.5 m
 	// anyway, and a box in front of the lens is no test scene).
-	// Distance from the camera centre to the object's box (footprint x height).
+	return cameraClearance(obj, layout.view.centre) >= params_.minCameraClearance;
+}
+
+double cameraClearance(const SceneObject &obj, const Eigen::Vector3d &cameraCentre)
+{
 	const Footprint &f = obj.footprint;
-	const Eigen::Vector2d d = layout.view.centre.head<2>() - f.centre;
+	const Eigen::Vector2d d = cameraCentre.head<2>() - f.centre;
 	const double u = std::max(std::abs(d.dot(f.axisX())) - f.halfSize.x(), 0.0);
 	const double v = std::max(std::abs(d.dot(f.axisY())) - f.halfSize.y(), 0.0);
-	const double z = layout.view.centre.z();
+	const double z = cameraCentre.z();
 	const double w = z > obj.height ? z - obj.height : (z < 0 ? -z : 0.0);
-	return std::sqrt(u * u + v * v + w * w) >= params_.minCameraClearance;
+	return std::sqrt(u * u + v * v + w * w);
 }
 
 double LayoutSampler::clearDistance(const SceneLayout &layout, SceneObject obj,
@@ -204,9 +208,15 @@ double LayoutSampler::clearDistance(const SceneLayout &layout, SceneObject obj,
 
 void LayoutSampler::addClutter(SceneLayout &layout, int targetId, SynthRandom &rng) const
 {
+	addClutter(layout, std::vector<int>{targetId}, rng);
+}
+
+void LayoutSampler::addClutter(SceneLayout &layout, const std::vector<int> &excludedIds,
+			       SynthRandom &rng) const
+{
 	std::vector<int> others;
 	for (int id : library_.ids())
-		if (id != targetId)
+		if (std::find(excludedIds.begin(), excludedIds.end(), id) == excludedIds.end())
 			others.push_back(id);
 
 	const int count = rng.uniformInt(params_.clutterMin, params_.clutterMax);

@@ -104,6 +104,10 @@ public:
 
 	// Adds clutter and background objects around the target.
 	void addClutter(SceneLayout &layout, int targetId, SynthRandom &rng) const;
+	// The same, with the models of excludedIds kept off the table as clutter
+	// (addClutter excludes the target only).
+	void addClutter(SceneLayout &layout, const std::vector<int> &excludedIds,
+			SynthRandom &rng) const;
 
 	// Whether obj fits: no footprint overlap with the other objects (ignoring
 	// index skip) and far enough from the camera.
@@ -127,6 +131,10 @@ private:
 	CameraIntrinsics K_;
 	LayoutParams params_;
 };
+
+// Distance from a camera centre to the box an object standing on the table
+// takes (its footprint times its height), mm.
+double cameraClearance(const SceneObject &obj, const Eigen::Vector3d &cameraCentre);
 
 // Moves obj so its footprint centre is at xy (keeps rotation and height).
 void moveOnTable(SceneObject &obj, const Eigen::Vector2d &xy);

@@ -31,6 +31,32 @@ std::optional<SensorModel> sensorModelNamed(std::string_view name)
 	return std::nullopt;
 }
 
+DepthImage16 sensorDepth(const SynthParams &params, const SceneLayout &layout,
+			 const CameraIntrinsics &K, ImageView<const float> depth,
+			 ImageView<const uint16_t> label, ImageView<const float> projector,
+			 int projectorPad, SynthRandom &rng)
+{
+	if (params.model == SensorModel::kIdeal) {
+		DepthImage16 out(K.width, K.height, 0);
+		for (int y = 0; y < K.height; ++y)
+			for (int x = 0; x < K.width; ++x)
+				out.at(x, y) = static_cast<uint16_t>(
+					std::min(std::round(depth.at(x, y) / params.depthScale), 65535.0));
+		return out;
+	}
+	SensorScene scene;
+	scene.depth = depth;
+	scene.label = label;
+	scene.projector = projector;
+	scene.projectorX0 = -projectorPad;
+	scene.labelDropout.assign(layout.objects.size() + 1, 0.0f);
+	for (size_t i = 0; i < layout.objects.size(); ++i)
+		scene.labelDropout[sceneLabel(i)] = static_cast<float>(layout.objects[i].dropout);
+	return params.model == SensorModel::kTof
+		       ? simulateTof(scene, K, params.tof, rng, params.depthScale)
+		       : simulateKinect(scene, K, params.sensor, rng, params.depthScale);
+}
+
 SceneSynthesizer::SceneSynthesizer(const ModelLibrary &library, const CameraIntrinsics &K,
 				   SynthParams params)
 	: library_(library), K_(K), params_(params),
@@ -133,25 +159,8 @@ Expected<SynthImage> SceneSynthesizer::attempt(int objId, int imageId, int index
 	}
 
 	SynthImage img;
-	if (params_.model == SensorModel::kIdeal) {
-		img.depth = DepthImage16(K_.width, K_.height, 0);
-		for (int y = 0; y < K_.height; ++y)
-			for (int x = 0; x < K_.width; ++x)
-				img.depth.at(x, y) = static_cast<uint16_t>(
-					std::min(std::round(depth_.at(x, y) / params_.depthScale), 65535.0));
-	} else {
-		SensorScene scene;
-		scene.depth = depth_.view();
-		scene.label = label_.view();
-		scene.projector = projector_.view();
-		scene.projectorX0 = -projectorPad_;
-		scene.labelDropout.assign(layout.objects.size() + 1, 0.0f);
-		for (size_t i = 0; i < layout.objects.size(); ++i)
-			scene.labelDropout[sceneLabel(i)] = static_cast<float>(layout.objects[i].dropout);
-		img.depth = params_.model == SensorModel::kTof
-				    ? simulateTof(scene, K_, params_.tof, rng, params_.depthScale)
-				    : simulateKinect(scene, K_, params_.sensor, rng, params_.depthScale);
-	}
+	img.depth = sensorDepth(params_, layout, K_, depth_.view(), label_.view(), projector_.view(),
+				projectorPad_, rng);
 
 	img.gt.objId = objId;
 	img.gt.pose = view * layout.objects[0].modelToWorld;

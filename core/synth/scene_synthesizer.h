@@ -69,6 +69,14 @@ struct SynthImage {
 	SceneLayout layout;
 };
 
+// The sensor's depth of a rendered scene (depth and labels from the camera,
+// projector depth from the projector with projectorPad columns left of the
+// image, used by the Kinect model only), in units of params.depthScale.
+DepthImage16 sensorDepth(const SynthParams &params, const SceneLayout &layout,
+			 const CameraIntrinsics &K, ImageView<const float> depth,
+			 ImageView<const uint16_t> label, ImageView<const float> projector,
+			 int projectorPad, SynthRandom &rng);
+
 class SceneSynthesizer
 {
 public:

@@ -6,12 +6,11 @@
 #include <fstream>
 #include <map>
 
-#include <unistd.h>
-
 #include <nlohmann/json.hpp>
 
 #include "core/dataset/bop_dataset.h"
 #include "core/dataset/bop_io.h"
+#include "core/synth/dataset_staging.h"
 #include "core/synth/depth_colormap.h"
 #include "core/synth/model_library.h"
 
@@ -20,31 +19,6 @@ namespace ihf {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string sixDigits(int v)
-{
-	char b[16];
-	std::snprintf(b, sizeof(b), "%06d", v);
-	return b;
-}
-
-// Removes the staging folder unless the set was moved into place.
-class StagingGuard
-{
-public:
-	explicit StagingGuard(fs::path dir) : dir_(std::move(dir)) {}
-	~StagingGuard()
-	{
-		if (!dir_.empty()) {
-			std::error_code ec;
-			fs::remove_all(dir_, ec);
-		}
-	}
-	void release() { dir_.clear(); }
-
-private:
-	fs::path dir_;
-};
 
 Status writeConfigRecord(const fs::path &file, const SynthConfig &c, const CameraIntrinsics &K)
 {
@@ -87,51 +61,27 @@ Expected<SynthSummary> runSynth(const SynthConfig &config, const SynthProgress &
 	if (!valid)
 		return valid.error();
 
-	BopCamera camera;
-	camera.intrinsics = kinectV1Intrinsics();
-	if (!config.cameraFile.empty()) {
-		auto cam = readBopCamera(config.cameraFile);
-		if (!cam)
-			return cam.error();
-		camera = *cam;
-		if (!camera.intrinsics.valid())
-			return makeError(Errc::kInvalidArgument,
-					 config.cameraFile.string() + ": invalid intrinsics");
-	}
-	camera.depthScale = config.params.depthScale;
+	auto cameraOr = synthCamera(config.cameraFile, config.params.depthScale);
+	if (!cameraOr)
+		return cameraOr.error();
+	const BopCamera camera = *cameraOr;
 	const CameraIntrinsics &K = camera.intrinsics;
 
-	std::error_code ec;
 	const fs::path out = config.outDir;
-	if (fs::exists(out, ec) && !config.overwrite)
-		return makeError(Errc::kInvalidArgument,
-				 out.string() + ": already exists (use --overwrite to replace it)");
+	Status st = checkOutputFree(out, config.overwrite);
+	if (!st)
+		return st.error();
 
 	auto library = ModelLibrary::load(config.modelsDir, config.objects);
 	if (!library)
 		return library.error();
 
-	fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
-	if (!fs::is_directory(parent, ec))
-		return makeError(Errc::kNotFound, parent.string() + ": output's parent folder not found");
-	const fs::path staging =
-		parent / ("." + out.filename().string() + ".synth-" + std::to_string(::getpid()));
-	fs::remove_all(staging, ec);
-	StagingGuard guard(staging);
-	fs::create_directories(staging / "models", ec);
-	if (ec)
-		return makeError(Errc::kIo, staging.string() + ": " + ec.message());
-
-	std::map<int, ModelInfo> info;
-	for (int id : config.objects) {
-		info[id] = library->info().at(id);
-		fs::copy_file(library->plyPath(id), staging / "models" / library->plyPath(id).filename(),
-			      fs::copy_options::overwrite_existing, ec);
-		if (ec)
-			return makeError(Errc::kIo, library->plyPath(id).string() + ": copy failed: " +
-							    ec.message());
-	}
-	Status st = createBopDataset(staging, camera, info);
+	auto staged = StagingFolder::create(out);
+	if (!staged)
+		return staged.error();
+	const fs::path staging = staged->dir();
+	std::error_code ec;
+	st = staged->addModels(*library, config.objects, camera);
 	if (!st)
 		return st.error();
 
@@ -186,16 +136,9 @@ Expected<SynthSummary> runSynth(const SynthConfig &config, const SynthProgress &
 		return st.error();
 
 	// Move the finished set into place.
-	if (fs::exists(out, ec)) {
-		fs::remove_all(out, ec);
-		if (ec)
-			return makeError(Errc::kIo, out.string() + ": cannot replace: " + ec.message());
-	}
-	fs::rename(staging, out, ec);
-	if (ec)
-		return makeError(Errc::kIo, out.string() + ": cannot move the set into place: " +
-						    ec.message());
-	guard.release();
+	st = staged->commit(out);
+	if (!st)
+		return st.error();
 
 	if (!config.previewDir.empty()) {
 		fs::create_directories(config.previewDir, ec);
