@@ -397,8 +397,12 @@ Expected<std::map<int, std::vector<GtInfo>>> readSceneGtInfo(const fs::path &fil
 			return e;
 		if (Status e = readInt(v, at, "px_count_all", info.pxCountAll); !e)
 			return e;
-		if (Status e = readInt(v, at, "px_count_valid", info.pxCountValid); !e)
-			return e;
+		// Some files lack px_count_valid; neither estimation nor evaluation
+		// uses it.
+		info.pxCountValid = -1;
+		if (v.contains("px_count_valid"))
+			if (Status e = readInt(v, at, "px_count_valid", info.pxCountValid); !e)
+				return e;
 		if (Status e = readInt(v, at, "px_count_visib", info.pxCountVisib); !e)
 			return e;
 		return readNumber(v, at, "visib_fract", info.visibFract);
@@ -412,7 +416,8 @@ Status writeSceneGtInfo(const fs::path &file, const std::map<int, std::vector<Gt
 		j["bbox_obj"] = g.bboxObj;
 		j["bbox_visib"] = g.bboxVisib;
 		j["px_count_all"] = g.pxCountAll;
-		j["px_count_valid"] = g.pxCountValid;
+		if (g.pxCountValid >= 0)
+			j["px_count_valid"] = g.pxCountValid;
 		j["px_count_visib"] = g.pxCountVisib;
 		j["visib_fract"] = g.visibFract;
 		return j;

@@ -108,7 +108,6 @@ TEST(BadInput, WrongTypedFields)
 	const fs::path dets = dir / "dets.json";
 	test::writeText(dets, R"([{"scene_id": 2, "image_id": 3, "category_id": 5, "score": 0.5, "bbox": [1, 2, 3, 4], "time": 0.1}, {"scene_id": 2, "image_id": 3, "category_id": 5, "score": "high", "bbox": [1, 2, 3, 4]}])");
 	EXPECT_EQ(errorOf(readDetections(dets)), dets.string() + ": [1].score: expected a number, got string");
-
 	EXPECT_EQ(readSceneGt(dir / "absent.json").error().code, Errc::kNotFound);
 }
 
@@ -149,6 +148,44 @@ TEST(BadInput, GtInfoCountMismatch)
 	ASSERT_TRUE(ok) << ok.error().message;
 	EXPECT_TRUE(ok->gtInfo.empty());
 	EXPECT_EQ(ok->gt.at(3).size(), 8u);
+}
+
+// Estimation reads a scene's cameras alone; the ground truth is a separate
+// step that a scene without scene_gt.json fails, naming the file, without
+// touching the cameras. scene_gt_info.json without px_count_valid loads.
+TEST(BadInput, SceneWithoutGroundTruth)
+{
+	auto root = test::freshTempDir("no_gt");
+	fs::copy_file(test::lmoDir() / "camera.json", root / "camera.json");
+	const fs::path scene = root / "test" / "000002";
+	fs::create_directories(scene);
+	fs::copy_file(test::lmoDir() / "test" / "000002" / "scene_camera.json", scene / "scene_camera.json");
+	auto ds = BopDataset::open(root);
+	ASSERT_TRUE(ds) << ds.error().message;
+
+	auto cams = ds->loadSceneCameras(2);
+	ASSERT_TRUE(cams) << cams.error().message;
+	ASSERT_EQ(cams->cameras.size(), 1u);
+	EXPECT_EQ(cams->cameras.at(3).intrinsics.width, 640);
+	EXPECT_TRUE(cams->gt.empty());
+	Status gt = ds->loadSceneGt(*cams);
+	ASSERT_FALSE(gt);
+	EXPECT_EQ(gt.error().code, Errc::kNotFound);
+	EXPECT_TRUE(contains(gt.error().message, (scene / "scene_gt.json").string())) << gt.error().message;
+	EXPECT_EQ(cams->cameras.size(), 1u);
+	EXPECT_FALSE(ds->loadScene(2));
+
+	test::writeText(scene / "scene_gt.json", std::string(R"({"3": [)") + kGoodInstance + "]}");
+	test::writeText(scene / "scene_gt_info.json",
+			R"({"3": [{"bbox_obj": [1, 2, 3, 4], "bbox_visib": [1, 2, 3, 4], "px_count_all": 9, "px_count_visib": 7, "visib_fract": 0.7}]})");
+	gt = ds->loadSceneGt(*cams);
+	ASSERT_TRUE(gt) << gt.error().message;
+	ASSERT_EQ(cams->gtInfo.at(3).size(), 1u);
+	EXPECT_EQ(cams->gtInfo.at(3)[0].pxCountValid, -1);
+	EXPECT_EQ(cams->gtInfo.at(3)[0].pxCountVisib, 7);
+	// Written back without the field it did not have.
+	ASSERT_TRUE(writeSceneGtInfo(scene / "scene_gt_info.json", cams->gtInfo));
+	EXPECT_FALSE(contains(test::readText(scene / "scene_gt_info.json"), "px_count_valid"));
 }
 
 TEST(BadInput, MissingCamera)
