@@ -453,6 +453,13 @@ Expected<std::vector<Detection>> readDetections(const fs::path &file)
 			return s.error();
 		if (Status s = readNumbers(v, at, "bbox", d.bbox.data(), 4); !s)
 			return s.error();
+		// Boxes become int pixel boxes: coordinates beyond any image are
+		// refused rather than converted.
+		for (size_t k = 0; k < 4; ++k)
+			if (!(std::abs(d.bbox[k]) <= 1e6))
+				return at.field("bbox").index(k).error(Errc::kOutOfRange,
+								       "must lie within +-1e6 pixels, got " +
+									       std::to_string(d.bbox[k]));
 		// COCO-style files without timing are common; keep the default then.
 		if (v.contains("time")) {
 			if (Status s = readNumber(v, at, "time", d.time); !s)

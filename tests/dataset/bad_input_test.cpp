@@ -3,6 +3,7 @@
 // field or CSV line:column at fault.
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include "core/dataset/bop_dataset.h"
 #include "core/dataset/bop_io.h"
@@ -108,6 +109,11 @@ TEST(BadInput, WrongTypedFields)
 	const fs::path dets = dir / "dets.json";
 	test::writeText(dets, R"([{"scene_id": 2, "image_id": 3, "category_id": 5, "score": 0.5, "bbox": [1, 2, 3, 4], "time": 0.1}, {"scene_id": 2, "image_id": 3, "category_id": 5, "score": "high", "bbox": [1, 2, 3, 4]}])");
 	EXPECT_EQ(errorOf(readDetections(dets)), dets.string() + ": [1].score: expected a number, got string");
+	// A box no int pixel box can hold.
+	test::writeText(dets, R"([{"scene_id": 2, "image_id": 3, "category_id": 5, "score": 0.5, "bbox": [1, 2, 1e300, 4]}])");
+	EXPECT_EQ(errorOf(readDetections(dets)),
+		  dets.string() + ": [0].bbox[2]: must lie within +-1e6 pixels, got " + std::to_string(1e300));
+
 	EXPECT_EQ(readSceneGt(dir / "absent.json").error().code, Errc::kNotFound);
 }
 
@@ -230,6 +236,58 @@ TEST(BadInput, ResultsCsv)
 	auto empty = readResultsCsv(f);
 	ASSERT_TRUE(empty) << empty.error().message;
 	EXPECT_TRUE(empty->empty());
+}
+
+// PNG chunks and headers that claim far more than the file holds (inputs
+// found by tests/fuzz/fuzz_depth_png): a text chunk claiming 2 GB made
+// libpng allocate it, and a 32768 x 32768 header the 2 GiB image, before
+// any data was read. Both are refused with an error naming the file.
+TEST(BadInput, DepthPngClaimingHugeSizes)
+{
+	auto dir = test::freshTempDir("png_claims");
+	auto u32 = [](std::string &s, uint32_t v) {
+		for (int shift : {24, 16, 8, 0})
+			s += static_cast<char>((v >> shift) & 0xff);
+	};
+	// Signature, IHDR (CRC checked by libpng), then a chunk header.
+	auto png = [&](uint32_t w, uint32_t h) {
+		std::string s = "\x89PNG\r\n\x1a\n";
+		std::string ihdr = "IHDR";
+		u32(ihdr, w);
+		u32(ihdr, h);
+		ihdr += std::string("\x10\x00\x00\x00\x00", 5); // 16-bit grey, no interlace
+		u32(s, 13);
+		s += ihdr;
+		u32(s, static_cast<uint32_t>(crc32(0, reinterpret_cast<const Bytef *>(ihdr.data()), ihdr.size())));
+		return s;
+	};
+	std::string chunk = png(1, 1);
+	u32(chunk, 0x7ffffff0u);
+	chunk += "tEXtabcd";
+	test::writeText(dir / "chunk.png", chunk);
+	auto c = readDepthPng(dir / "chunk.png");
+	ASSERT_FALSE(c);
+	EXPECT_EQ(c.error().code, Errc::kCorrupt);
+	EXPECT_TRUE(contains(c.error().message, (dir / "chunk.png").string() + ": bad PNG")) << c.error().message;
+
+	std::string wide = png(32768, 32768);
+	u32(wide, 12);
+	wide += "IDAT" + std::string(16, '\0');
+	test::writeText(dir / "wide.png", wide);
+	auto w = readDepthPng(dir / "wide.png");
+	ASSERT_FALSE(w);
+	EXPECT_EQ(w.error().code, Errc::kCorrupt);
+	EXPECT_EQ(w.error().message, (dir / "wide.png").string() + ": header claims a 32768x32768 image, more than "
+								   "the file's " + std::to_string(wide.size()) +
+					     " bytes can hold (truncated?)");
+	// Past libpng's own limit on a side.
+	std::string huge = png(40000, 2);
+	u32(huge, 0);
+	huge += "IEND";
+	test::writeText(dir / "huge.png", huge);
+	auto h = readDepthPng(dir / "huge.png");
+	ASSERT_FALSE(h);
+	EXPECT_TRUE(contains(h.error().message, (dir / "huge.png").string() + ": bad PNG header")) << h.error().message;
 }
 
 TEST(BadInput, DepthPngNot16Bit)
