@@ -86,7 +86,11 @@ for name in "${names[@]}"; do
 	# shellcheck disable=SC2086 # IHF_FUZZ_FLAGS holds several flags
 	"$build/bin/$name" -max_total_time="$seconds" -rss_limit_mb=512 -malloc_limit_mb=256 -timeout=10 \
 		-print_final_stats=1 -artifact_prefix="$artifacts/" ${IHF_FUZZ_FLAGS:-} "$corpus" "$seedDir" \
-		>"$log" 2>&1 || rc=$?
+		>"$log" 2>&1 &
+	pid=$!
+	wait "$pid" || rc=$?
+	# The harness's input file (tests/fuzz/fuzz_input.h), named by its pid.
+	rm -f "/dev/shm/ihf_fuzz_${pid}_"* "${TMPDIR:-/tmp}/ihf_fuzz_${pid}_"*
 	# The last status line: "#N  DONE  cov: C ft: F corp: ..."
 	last="$(grep -E '^#[0-9]+' "$log" | tail -n 1 || true)"
 	execs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")"
