@@ -19,6 +19,7 @@ namespace ihf::app {
 namespace {
 
 constexpr size_t kLineCapacity = 1 << 16; // longest line accepted
+constexpr double kMaxBoxCoordinate = 1e6; // pixels; frames are at most 16384 wide
 constexpr size_t kReservedBoxes = 64;
 
 std::string errnoText(int err) { return std::strerror(err); }
@@ -231,12 +232,14 @@ void BoxFeed::parseLine(std::string_view line, uint64_t &frame, bool &ok)
 		fb.objId = o->get<int>();
 		bool good = bb != b.end() && bb->is_array() && bb->size() == 4;
 		for (size_t k = 0; good && k < 4; ++k) {
-			good = (*bb)[k].is_number() && std::isfinite((*bb)[k].get<double>());
+			// Boxes become int pixel boxes: a coordinate beyond any frame
+			// (kMaxBoxCoordinate) is malformed, not converted.
+			good = (*bb)[k].is_number() && std::abs((*bb)[k].get<double>()) <= kMaxBoxCoordinate;
 			if (good)
 				fb.bbox[k] = (*bb)[k].get<double>();
 		}
 		if (!good || fb.bbox[2] <= 0 || fb.bbox[3] <= 0) {
-			problems_.push_back(boxWhere + "\"bbox\" must be [x, y, w, h] with w, h > 0");
+			problems_.push_back(boxWhere + "\"bbox\" must be [x, y, w, h] with w, h > 0, each within +-1e6");
 			++counters_.malformed;
 			continue;
 		}

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <set>
 
 #include "core/dataset/bop_dataset.h"
 #include "core/dataset/bop_io.h"
@@ -40,6 +41,7 @@ struct EstimateOptions {
 	bool noHalfTurns = false;
 	bool paper = false;
 	bool quiet = false;
+	bool noTime = false;
 	std::string trace;
 	bool sequence = false;  // --sequence: each scene a stream, tracked
 	std::string runConfig;  // --run-config: [tracking] from a device configuration
@@ -47,8 +49,9 @@ struct EstimateOptions {
 
 // `--trace`: every scored hypothesis as a JSON line, for diagnosing which
 // stage loses a pose. Ground-truth poses of the box's object, when the
-// dataset has them, are scored the same way (stage "given"); the box's
-// answer comes last (stage "result").
+// dataset has them, are scored the same way (stage "given"); when it has
+// none, a line of stage "no_truth" says why; the box's answer comes last
+// (stage "result").
 class TraceWriter : public EstimateObserver
 {
 public:
@@ -59,6 +62,15 @@ public:
 		truth_.clear();
 	}
 	void addTruth(const Pose &pose) { truth_.push_back(pose); }
+	// No ground truth to compare this box with: no "given" lines and no vote
+	// shares follow.
+	void noTruth(const std::string &why)
+	{
+		std::fprintf(f_, "{\"scene_id\":%d,\"im_id\":%d,\"obj_id\":%d,\"stage\":\"no_truth\",\"reason\":",
+			     scene_, image_, obj_);
+		writeString(why);
+		std::fprintf(f_, "}\n");
+	}
 	// Share of the vote weight near a ground-truth pose: rotation within
 	// 20 deg, centre within 0.1 diameter, and both.
 	void onVotes(const VoteEvent &e) override
@@ -111,6 +123,21 @@ public:
 	}
 
 private:
+	// A JSON string (reasons hold file paths).
+	void writeString(const std::string &text)
+	{
+		std::fputc('"', f_);
+		for (unsigned char c : text) {
+			if (c == '"' || c == '\\')
+				std::fprintf(f_, "\\%c", c);
+			else if (c < 0x20)
+				std::fprintf(f_, "\\u%04x", c);
+			else
+				std::fputc(c, f_);
+		}
+		std::fputc('"', f_);
+	}
+
 	// "R":[9 numbers],"t":[3 numbers] of a trace line.
 	void writePose(const Pose &p)
 	{
@@ -243,20 +270,22 @@ int runEstimate(const EstimateOptions &o)
 		}
 	}
 	std::map<int, BopScene> scenes;
+	// Per scene, with --trace: why it has no ground truth ("" if it has).
+	std::map<int, std::string> noTruth;
 	// A stream's frames are all of its scene's images, in id order: a
 	// frame without boxes still ages the tracks.
 	if (tracker) {
 		std::map<std::pair<int, int>, std::vector<const Detection *>> frames;
+		std::set<int> listed;
 		for (const auto &[key, boxes] : perImage) {
 			const int sceneId = key.first;
-			if (!scenes.count(sceneId)) {
-				auto scene = dataset->loadScene(sceneId);
+			if (listed.insert(sceneId).second) {
+				auto scene = dataset->loadSceneCameras(sceneId);
 				if (!scene) {
 					std::fprintf(stderr, "ihf estimate: %s\n", scene.error().message.c_str());
 					return kExitFailure;
 				}
-				scenes[sceneId] = std::move(scene.value());
-				for (const auto &[imId, camera] : scenes[sceneId].cameras)
+				for (const auto &[imId, camera] : scene->cameras)
 					frames[{sceneId, imId}];
 			}
 			frames[key] = boxes;
@@ -273,10 +302,19 @@ int runEstimate(const EstimateOptions &o)
 	for (const auto &[key, boxes] : perImage) {
 		auto [sceneId, imId] = key;
 		if (!scenes.count(sceneId)) {
-			auto scene = dataset->loadScene(sceneId);
+			// Estimation needs the cameras only; the ground truth is read
+			// for the trace, and a scene without it is traced without.
+			auto scene = dataset->loadSceneCameras(sceneId);
 			if (!scene) {
 				std::fprintf(stderr, "ihf estimate: %s\n", scene.error().message.c_str());
 				return kExitFailure;
+			}
+			if (trace) {
+				if (Status gt = dataset->loadSceneGt(*scene); !gt) {
+					noTruth[sceneId] = gt.error().message;
+					std::fprintf(stderr, "ihf estimate: scene %d has no ground truth to trace against: %s\n",
+						     sceneId, gt.error().message.c_str());
+				}
 			}
 			scenes[sceneId] = std::move(scene.value());
 		}
@@ -375,7 +413,7 @@ int runEstimate(const EstimateOptions &o)
 				imageRows.push_back(row);
 			}
 			for (auto &r : imageRows) {
-				r.time = imageTime;
+				r.time = o.noTime ? -1 : imageTime;
 				rows.push_back(r);
 			}
 			continue;
@@ -401,7 +439,15 @@ int runEstimate(const EstimateOptions &o)
 			if (trace) {
 				trace->begin(sceneId, imId, d->categoryId, mIt->second->params().diameter);
 				auto gtIt = scene.gt.find(imId);
-				if (gtIt != scene.gt.end())
+				const bool known = gtIt != scene.gt.end() &&
+						   std::any_of(gtIt->second.begin(), gtIt->second.end(),
+							       [&](const GtInstance &g) { return g.objId == d->categoryId; });
+				if (auto why = noTruth.find(sceneId); why != noTruth.end())
+					trace->noTruth(why->second);
+				else if (!known)
+					trace->noTruth("scene_gt.json has no object " + std::to_string(d->categoryId) +
+						       " in image " + std::to_string(imId));
+				if (known)
 					for (const GtInstance &g : gtIt->second) {
 						if (g.objId != d->categoryId)
 							continue;
@@ -442,7 +488,7 @@ int runEstimate(const EstimateOptions &o)
 		}
 		estimator.endFrame();
 		for (auto &r : imageRows) {
-			r.time = imageTime;
+			r.time = o.noTime ? -1 : imageTime;
 			rows.push_back(r);
 		}
 	}
@@ -525,8 +571,12 @@ void addEstimateCommand(CLI::App &root, Action &action)
 	cmd->add_option("--stats-json", opts->statsJson,
 			"Also write the per-stage times, budget counters and arena use as JSON");
 	cmd->add_flag("--quiet", opts->quiet, "Do not report per-box failures");
+	cmd->add_flag("--no-time", opts->noTime,
+		      "Write -1 (unknown, as BOP allows) in the CSV's time column, so that two runs' files can be "
+		      "compared byte for byte");
 	cmd->add_option("--trace", opts->trace,
-			"Write every scored hypothesis (and the ground truth's score, if known) as JSON lines");
+			"Write every scored hypothesis (and the ground truth's score, if the dataset has scene_gt.json) "
+			"as JSON lines");
 	cmd->add_flag("--sequence", opts->sequence,
 		      "Each scene is a stream (images in id order): boxes are tracked from frame to frame and "
 		      "detected only where needed, as ihf run does");

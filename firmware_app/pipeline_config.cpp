@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 #include <set>
 #include <string>
 
@@ -37,15 +39,28 @@ public:
 			else
 				fail(key, "a boolean");
 		} else if constexpr (std::is_integral_v<T>) {
-			if (auto v = node->value_exact<int64_t>())
-				out = static_cast<T>(*v);
-			else
+			// TOML integers are 64-bit: a value the setting's type cannot
+			// hold is an error, never wrapped into range.
+			if (auto v = node->value_exact<int64_t>()) {
+				if (std::in_range<T>(*v))
+					out = static_cast<T>(*v);
+				else
+					outOfRange(key, std::to_string(*v) + " is out of range [" +
+								std::to_string(std::numeric_limits<T>::min()) + ", " +
+								std::to_string(std::numeric_limits<T>::max()) + "]");
+			} else {
 				fail(key, "an integer");
+			}
 		} else if constexpr (std::is_floating_point_v<T>) {
-			if (auto v = node->value<double>())
-				out = static_cast<T>(*v);
-			else
+			if (auto v = node->value<double>()) {
+				if (std::isfinite(*v) && std::abs(*v) > std::numeric_limits<T>::max())
+					outOfRange(key, std::to_string(*v) + " is outside the range of a " +
+								std::to_string(8 * sizeof(T)) + "-bit float");
+				else
+					out = static_cast<T>(*v);
+			} else {
 				fail(key, "a number");
+			}
 		} else if constexpr (std::is_same_v<T, std::string>) {
 			if (auto v = node->value_exact<std::string>())
 				out = *v;
@@ -110,6 +125,10 @@ private:
 	void fail(const char *key, const char *what)
 	{
 		error_ = makeError(Errc::kParse, file_ + ": " + section_ + "." + key + ": expected " + what);
+	}
+	void outOfRange(const char *key, const std::string &what)
+	{
+		error_ = makeError(Errc::kOutOfRange, file_ + ": " + section_ + "." + key + ": " + what);
 	}
 
 	const toml::table *table_;
@@ -248,6 +267,8 @@ Expected<TrainSettings> loadTrainConfig(const std::filesystem::path &path)
 		     {{"count", HocpWeighting::kCount}, {"abs_weight", HocpWeighting::kAbsWeight},
 		      {"sign_split", HocpWeighting::kSignSplit}});
 	IHF_SECTION(hocp);
+	if (std::string problem = hocpBinsProblem(s.params.hocp); !problem.empty())
+		return makeError(Errc::kOutOfRange, file + ": hocp: " + problem);
 
 	TableReader forest(root["forest"].as_table(), file, "forest");
 	forest.get("trees", s.forest.trees);

@@ -137,6 +137,16 @@ std::optional<int> modelObjId(std::string_view stem)
 
 Expected<BopScene> BopDataset::loadScene(int sceneId) const
 {
+	auto scene = loadSceneCameras(sceneId);
+	if (!scene)
+		return scene;
+	if (Status s = loadSceneGt(*scene); !s)
+		return s.error();
+	return scene;
+}
+
+Expected<BopScene> BopDataset::loadSceneCameras(int sceneId) const
+{
 	const fs::path dir = sceneDir(sceneId);
 	std::error_code ec;
 	if (!fs::is_directory(dir, ec))
@@ -144,9 +154,7 @@ Expected<BopScene> BopDataset::loadScene(int sceneId) const
 
 	BopScene scene;
 	scene.sceneId = sceneId;
-
-	const fs::path camFile = dir / "scene_camera.json";
-	auto cams = readSceneCamera(camFile);
+	auto cams = readSceneCamera(dir / "scene_camera.json");
 	if (!cams)
 		return cams.error();
 	scene.cameras = std::move(*cams);
@@ -154,28 +162,37 @@ Expected<BopScene> BopDataset::loadScene(int sceneId) const
 		cam.intrinsics.width = camera_.intrinsics.width;
 		cam.intrinsics.height = camera_.intrinsics.height;
 	}
+	return scene;
+}
 
+Status BopDataset::loadSceneGt(BopScene &scene) const
+{
+	const fs::path dir = sceneDir(scene.sceneId);
+	const fs::path camFile = dir / "scene_camera.json";
 	const fs::path gtFile = dir / "scene_gt.json";
 	auto gt = readSceneGt(gtFile);
 	if (!gt)
 		return gt.error();
-	scene.gt = std::move(*gt);
-	for (const auto &[imId, instances] : scene.gt)
+	for (const auto &[imId, instances] : *gt)
 		if (!scene.cameras.count(imId))
 			return makeError(Errc::kCorrupt, gtFile.string() + ": \"" + std::to_string(imId) +
 								 "\": image has no entry in " +
 								 camFile.string());
 
+	std::map<int, std::vector<GtInfo>> info;
 	const fs::path infoFile = dir / "scene_gt_info.json";
+	std::error_code ec;
 	if (fs::exists(infoFile, ec)) {
-		auto info = readSceneGtInfo(infoFile);
-		if (!info)
-			return info.error();
-		if (Status s = checkGtInfoMatches(scene.gt, *info, gtFile, infoFile); !s)
-			return s.error();
-		scene.gtInfo = std::move(*info);
+		auto read = readSceneGtInfo(infoFile);
+		if (!read)
+			return read.error();
+		if (Status s = checkGtInfoMatches(*gt, *read, gtFile, infoFile); !s)
+			return s;
+		info = std::move(*read);
 	}
-	return scene;
+	scene.gt = std::move(*gt);
+	scene.gtInfo = std::move(info);
+	return {};
 }
 
 Status BopDataset::saveScene(const BopScene &scene) const

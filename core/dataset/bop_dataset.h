@@ -36,8 +36,15 @@ public:
 	std::vector<int> sceneIds() const;
 	// scene_camera.json and scene_gt.json are required, scene_gt_info.json
 	// optional (but must match scene_gt.json entry for entry). Camera
-	// width/height come from camera.json.
+	// width/height come from camera.json. For evaluation, which needs the
+	// ground truth: loadSceneCameras() then loadSceneGt().
 	Expected<BopScene> loadScene(int sceneId) const;
+	// scene_camera.json alone, all that estimation needs: gt and gtInfo stay
+	// empty (BOP test splits and a user's own scenes have no scene_gt.json).
+	Expected<BopScene> loadSceneCameras(int sceneId) const;
+	// Adds scene_gt.json (required) and scene_gt_info.json (if present) to a
+	// scene from loadSceneCameras(); on an error the scene is left unchanged.
+	Status loadSceneGt(BopScene &scene) const;
 	// Writes the scene's JSON files into sceneDir() (gt_info only if not empty).
 	Status saveScene(const BopScene &scene) const;
 

@@ -397,8 +397,12 @@ Expected<std::map<int, std::vector<GtInfo>>> readSceneGtInfo(const fs::path &fil
 			return e;
 		if (Status e = readInt(v, at, "px_count_all", info.pxCountAll); !e)
 			return e;
-		if (Status e = readInt(v, at, "px_count_valid", info.pxCountValid); !e)
-			return e;
+		// Some files lack px_count_valid; neither estimation nor evaluation
+		// uses it.
+		info.pxCountValid = -1;
+		if (v.contains("px_count_valid"))
+			if (Status e = readInt(v, at, "px_count_valid", info.pxCountValid); !e)
+				return e;
 		if (Status e = readInt(v, at, "px_count_visib", info.pxCountVisib); !e)
 			return e;
 		return readNumber(v, at, "visib_fract", info.visibFract);
@@ -412,7 +416,8 @@ Status writeSceneGtInfo(const fs::path &file, const std::map<int, std::vector<Gt
 		j["bbox_obj"] = g.bboxObj;
 		j["bbox_visib"] = g.bboxVisib;
 		j["px_count_all"] = g.pxCountAll;
-		j["px_count_valid"] = g.pxCountValid;
+		if (g.pxCountValid >= 0)
+			j["px_count_valid"] = g.pxCountValid;
 		j["px_count_visib"] = g.pxCountVisib;
 		j["visib_fract"] = g.visibFract;
 		return j;
@@ -448,6 +453,13 @@ Expected<std::vector<Detection>> readDetections(const fs::path &file)
 			return s.error();
 		if (Status s = readNumbers(v, at, "bbox", d.bbox.data(), 4); !s)
 			return s.error();
+		// Boxes become int pixel boxes: coordinates beyond any image are
+		// refused rather than converted.
+		for (size_t k = 0; k < 4; ++k)
+			if (!(std::abs(d.bbox[k]) <= 1e6))
+				return at.field("bbox").index(k).error(Errc::kOutOfRange,
+								       "must lie within +-1e6 pixels, got " +
+									       std::to_string(d.bbox[k]));
 		// COCO-style files without timing are common; keep the default then.
 		if (v.contains("time")) {
 			if (Status s = readNumber(v, at, "time", d.time); !s)

@@ -57,7 +57,7 @@ struct GtInfo {
 	std::array<int, 4> bboxObj{-1, -1, -1, -1};
 	std::array<int, 4> bboxVisib{-1, -1, -1, -1};
 	int pxCountAll = 0;
-	int pxCountValid = 0;
+	int pxCountValid = 0; // -1: not in the file (optional: nothing here needs it)
 	int pxCountVisib = 0;
 	double visibFract = 0;
 };

@@ -8,12 +8,14 @@
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include <png.h>
+#include <sys/stat.h>
 
 #include "core/dataset/atomic_file.h"
 #include "core/dataset/bop_io.h"
@@ -76,10 +78,39 @@ const char *colorTypeName(int type)
 	return "unknown colour type";
 }
 
+// Limits on what a PNG may make libpng allocate before a pixel is read:
+// its image size, and the ancillary chunks (text, ICC profiles, unknown
+// chunks) it keeps in memory; depth frames need none of those.
+constexpr png_uint_32 kMaxSide = 1u << 15;
+constexpr png_alloc_size_t kMaxChunkBytes = 1u << 20;
+constexpr png_uint_32 kMaxAncillaryChunks = 64;
+// zlib's deflate cannot compress better than 1032:1, so the decoded image
+// of a file of n bytes has at most 1032 n bytes.
+constexpr uint64_t kMaxDeflateRatio = 1032;
+
+// libpng allocates an ancillary chunk's claimed length before reading it
+// and only warns when that passes png_set_chunk_malloc_max(); its own
+// buffers while reading a depth frame (a row, zlib's window) are far below
+// this. A larger request fails, which libpng reports as an error.
+constexpr png_alloc_size_t kMaxLibpngAllocation = 4u << 20;
+
+png_voidp boundedPngMalloc(png_structp, png_alloc_size_t size)
+{
+	return size <= kMaxLibpngAllocation ? std::malloc(size) : nullptr;
+}
+
+void pngFree(png_structp, png_voidp p)
+{
+	std::free(p);
+}
+
 bool readHeaderStage(png_structp png, png_infop info, std::FILE *fp, PngHeader *h)
 {
 	if (setjmp(png_jmpbuf(png)))
 		return false;
+	png_set_user_limits(png, kMaxSide, kMaxSide);
+	png_set_chunk_malloc_max(png, kMaxChunkBytes);
+	png_set_chunk_cache_max(png, kMaxAncillaryChunks);
 	png_init_io(png, fp);
 	png_set_sig_bytes(png, 8);
 	png_read_info(png, info);
@@ -183,8 +214,8 @@ Expected<DepthImage16> readDepthPng(const fs::path &file)
 		return makeError(Errc::kParse, file.string() + ": not a PNG file");
 
 	PngErrorState state;
-	png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &state, onPngError,
-						 onPngWarning);
+	png_structp png = png_create_read_struct_2(PNG_LIBPNG_VER_STRING, &state, onPngError, onPngWarning,
+						   nullptr, boundedPngMalloc, pngFree);
 	png_infop info = png ? png_create_info_struct(png) : nullptr;
 	struct ReadGuard {
 		png_structp *png;
@@ -203,10 +234,19 @@ Expected<DepthImage16> readDepthPng(const fs::path &file)
 					 std::to_string(h.bitDepth) + "-bit " +
 					 colorTypeName(h.colorType) + ")");
 	// Guards the int-sized Image and absurd allocations from a corrupt header.
-	if (h.width > 1u << 15 || h.height > 1u << 15)
+	if (h.width > kMaxSide || h.height > kMaxSide)
 		return makeError(Errc::kUnsupported, file.string() + ": image " +
 							     std::to_string(h.width) + "x" +
 							     std::to_string(h.height) + " too large");
+	// A header claiming more pixels than the file's bytes can inflate to is
+	// refused before the image is allocated.
+	struct stat st;
+	const uint64_t rowsBytes = uint64_t{h.height} * (1 + 2 * uint64_t{h.width});
+	if (::fstat(::fileno(fp.get()), &st) == 0 &&
+	    rowsBytes > kMaxDeflateRatio * static_cast<uint64_t>(st.st_size))
+		return makeError(Errc::kCorrupt, file.string() + ": header claims a " + std::to_string(h.width) + "x" +
+							 std::to_string(h.height) + " image, more than the file's " +
+							 std::to_string(st.st_size) + " bytes can hold (truncated?)");
 
 	DepthImage16 image(static_cast<int>(h.width), static_cast<int>(h.height));
 	std::vector<png_bytep> rows(h.height);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <string>
 
 namespace ihf {
 
@@ -103,6 +104,20 @@ int hocpDimension(const HocpConfig &cfg)
 {
 	const int d = cfg.nR * cfg.nTheta * cfg.nPhi;
 	return cfg.weighting == HocpWeighting::kSignSplit ? 2 * d : d;
+}
+
+std::string hocpBinsProblem(const HocpConfig &cfg)
+{
+	if (cfg.nR < 1 || cfg.nTheta < 1 || cfg.nPhi < 1)
+		return "bin counts n_r " + std::to_string(cfg.nR) + ", n_theta " + std::to_string(cfg.nTheta) +
+		       ", n_phi " + std::to_string(cfg.nPhi) + " must each be at least 1";
+	const int64_t angular = int64_t{cfg.nTheta} * cfg.nPhi;
+	const int64_t dim = angular * cfg.nR * (cfg.weighting == HocpWeighting::kSignSplit ? 2 : 1);
+	if (angular > int64_t{std::numeric_limits<uint16_t>::max()} + 1 || dim > kMaxHocpDimension)
+		return "bin counts n_r " + std::to_string(cfg.nR) + " x n_theta " + std::to_string(cfg.nTheta) +
+		       " x n_phi " + std::to_string(cfg.nPhi) + " give " + std::to_string(dim) +
+		       " dimensions, more than the " + std::to_string(kMaxHocpDimension) + " allowed";
+	return {};
 }
 
 void setHocpKeys(std::span<PartCp> cps, const HocpConfig &cfg)

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 
 #include "core/features/part.h"
 
@@ -35,7 +36,17 @@ struct HocpConfig {
 };
 
 // Length of the feature vector: nR nTheta nPhi, twice that for kSignSplit.
+// Only for bin counts hocpBinsProblem() accepts.
 int hocpDimension(const HocpConfig &cfg);
+
+// The longest descriptor accepted; the defaults have 256 bins.
+inline constexpr int kMaxHocpDimension = 1 << 16;
+
+// Empty when the bin counts are usable: each at least 1, the angular bins
+// numbered in 16 bits (PartCp::angBin) and hocpDimension() at most
+// kMaxHocpDimension. Otherwise what is wrong, for readers of files and
+// configurations to report.
+std::string hocpBinsProblem(const HocpConfig &cfg);
 
 // Fills logR and angBin of each control point from rel.
 void setHocpKeys(std::span<PartCp> cps, const HocpConfig &cfg);

@@ -156,16 +156,18 @@ Status Loader::parseHeader()
 	int lineNo = 0;
 	bool sawFormat = false;
 
+	bool terminated = false; // the last line read ends with a line break
 	auto nextLine = [&](std::string_view &line) {
 		if (pos >= all.size())
 			return false;
 		size_t eol = all.find('\n', pos);
-		if (eol == std::string_view::npos)
+		terminated = eol != std::string_view::npos;
+		if (!terminated)
 			eol = all.size();
 		line = all.substr(pos, eol - pos);
 		if (!line.empty() && line.back() == '\r')
 			line.remove_suffix(1);
-		pos = eol + 1;
+		pos = terminated ? eol + 1 : eol;
 		++lineNo;
 		return true;
 	};
@@ -181,8 +183,13 @@ Status Loader::parseHeader()
 		std::string where = "header line " + std::to_string(lineNo) + ": ";
 		if (w.empty() || w[0] == "comment" || w[0] == "obj_info")
 			continue;
-		if (w[0] == "end_header")
+		if (w[0] == "end_header") {
+			// The body starts after its line break; without one the
+			// file was cut inside the header.
+			if (!terminated)
+				return fail(Errc::kCorrupt, where + "'end_header' has no line break (file truncated?)");
 			break;
+		}
 		if (w[0] == "format") {
 			if (w.size() != 3)
 				return fail(Errc::kParse, where + "malformed 'format' line");
@@ -522,6 +529,9 @@ Status Loader::readBinary()
 		const PlyElement &el = header_.elements[e];
 		const bool isVertex = static_cast<int>(e) == vertexElement_;
 		const bool isFace = static_cast<int>(e) == faceElement_;
+		// An element without properties takes no bytes, whatever its count.
+		if (el.properties.empty())
+			continue;
 		values.assign(el.properties.size(), 0.0);
 		for (size_t i = 0; i < el.count; ++i) {
 			auto truncated = [&](const PlyProperty &prop) {
@@ -590,6 +600,7 @@ Expected<Mesh> Loader::load()
 
 	// Reserve no more than the remaining bytes could hold, so a lying
 	// header cannot make us allocate gigabytes before noticing truncation.
+	// parseHeader() leaves bodyOffset <= the file size.
 	const size_t body = data_.size() - header_.bodyOffset;
 	const size_t nv = header_.elements[vertexElement_].count;
 	const size_t minVertexBytes = header_.format == PlyFormat::kAscii ? 6 : 12;

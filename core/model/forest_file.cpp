@@ -281,6 +281,11 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const fs::path &path)
 		return corrupt("FOREST: unknown template encoding " + std::to_string(encoding));
 	if (treeCount == 0)
 		return corrupt("FOREST: no trees");
+	// Each tree has three sections: refuse a count the table cannot hold
+	// before reserving anything for it.
+	if (treeCount > sectionCount / 3)
+		return corrupt("FOREST: " + std::to_string(treeCount) + " trees but the section table has " +
+			       std::to_string(sectionCount) + " sections (3 per tree)");
 	sum.dims = static_cast<int>(dims);
 	sum.encoding = static_cast<TemplateEncoding>(encoding);
 

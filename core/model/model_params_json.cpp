@@ -463,6 +463,9 @@ Expected<ModelParams> modelParamsFromJson(std::string_view text, std::string_vie
 	hocp.number("r_min_fraction", p.hocp.rMinFraction);
 	hocp.enumeration("weighting", p.hocp.weighting, kWeightingNames);
 	hocp.rejectUnknownKeys();
+	if (!reader.failed())
+		if (std::string problem = hocpBinsProblem(p.hocp); !problem.empty())
+			reader.fail(Errc::kOutOfRange, "hocp", problem);
 
 	root.number("depth_check_margin_mm", p.depthCheckMarginMm);
 

@@ -67,20 +67,24 @@ TEST(BoxFeed, MalformedLinesAndBoxesAreReportedTheRestGoesOn)
 		  "\n"
 		  "{\"frame\": 3, \"boxes\": [{\"obj_id\": 1, \"bbox\": [0, 0, 0, 5]}, "
 		  "{\"obj_id\": 2, \"bbox\": [1, 2, 3, 4]}, {\"obj_id\": \"x\", \"bbox\": [1, 2, 3, 4]}, "
-		  "{\"obj_id\": 4, \"bbox\": [1, 2, 3]}]}\n");
+		  "{\"obj_id\": 4, \"bbox\": [1, 2, 3]}, {\"obj_id\": 5, \"bbox\": [1e300, 2, 3, 4]}]}\n");
 	auto feed = BoxFeed::open("file:" + (dir / "b.jsonl").string());
 	ASSERT_TRUE(feed.ok());
 	BoxFeed &f = **feed;
 	ASSERT_EQ(*f.wait(3, milliseconds(0)), BoxWait::kBoxes);
 	ASSERT_EQ(f.boxes().size(), 1u);
 	EXPECT_EQ(f.boxes()[0].objId, 2);
-	ASSERT_EQ(f.problems().size(), 5u);
+	ASSERT_EQ(f.problems().size(), 6u);
 	EXPECT_NE(f.problems()[0].find("b.jsonl line 1: not a JSON object"), std::string::npos) << f.problems()[0];
 	EXPECT_NE(f.problems()[1].find("line 2: \"frame\""), std::string::npos) << f.problems()[1];
 	EXPECT_NE(f.problems()[2].find("line 4: box 0: \"bbox\""), std::string::npos) << f.problems()[2];
 	EXPECT_NE(f.problems()[3].find("line 4: box 2: \"obj_id\""), std::string::npos) << f.problems()[3];
 	EXPECT_NE(f.problems()[4].find("line 4: box 3: \"bbox\""), std::string::npos) << f.problems()[4];
-	EXPECT_EQ(f.counters().malformed, 5u);
+	// A coordinate no int pixel box can hold.
+	EXPECT_NE(f.problems()[5].find("line 4: box 4: \"bbox\" must be [x, y, w, h] with w, h > 0, each within +-1e6"),
+		  std::string::npos)
+		<< f.problems()[5];
+	EXPECT_EQ(f.counters().malformed, 6u);
 }
 
 TEST(BoxFeed, BadSpecsAreRefused)

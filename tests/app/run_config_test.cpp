@@ -135,6 +135,33 @@ TEST(RunConfig, ErrorsNameTheFileAndKey)
 	EXPECT_NE(section.error().message.find("unknown section [sources]"), std::string::npos);
 }
 
+// TOML integers are 64-bit; a value the setting cannot hold is a range
+// error, not wrapped (4294968296 was taken as 1000), and a number outside
+// the float range is refused too (found by tests/fuzz/fuzz_toml_config).
+TEST(RunConfig, ValuesBeyondTheSettingsTypeAreRangeErrors)
+{
+	auto wrapped = loadRunConfig(writeConfig("wrapped", "[source]\ntimeout_ms = 4294968296\n"));
+	ASSERT_FALSE(wrapped.ok());
+	EXPECT_EQ(wrapped.error().code, Errc::kOutOfRange);
+	EXPECT_NE(wrapped.error().message.find("device.toml: source.timeout_ms: 4294968296 is out of range "
+					       "[-2147483648, 2147483647]"),
+		  std::string::npos)
+		<< wrapped.error().message;
+
+	auto narrow = loadEstimateConfig(writeConfig("narrow", "[budget]\nframe_ms = 1e300\n"));
+	ASSERT_FALSE(narrow.ok());
+	EXPECT_EQ(narrow.error().code, Errc::kOutOfRange);
+	EXPECT_NE(narrow.error().message.find("budget.frame_ms: "), std::string::npos) << narrow.error().message;
+	EXPECT_NE(narrow.error().message.find("is outside the range of a 32-bit float"), std::string::npos)
+		<< narrow.error().message;
+
+	auto bins = loadTrainConfig(writeConfig("bins", "[hocp]\nn_phi = 1073741828\n"));
+	ASSERT_FALSE(bins.ok());
+	EXPECT_EQ(bins.error().code, Errc::kOutOfRange);
+	EXPECT_NE(bins.error().message.find("hocp: bin counts n_r 4 x n_theta 8 x n_phi 1073741828"), std::string::npos)
+		<< bins.error().message;
+}
+
 TEST(RunConfig, TheBundledDeviceConfigLoads)
 {
 	auto s = loadRunConfig(test::sourceDir() / "config" / "device.toml");

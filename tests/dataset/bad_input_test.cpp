@@ -3,6 +3,7 @@
 // field or CSV line:column at fault.
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include "core/dataset/bop_dataset.h"
 #include "core/dataset/bop_io.h"
@@ -108,6 +109,10 @@ TEST(BadInput, WrongTypedFields)
 	const fs::path dets = dir / "dets.json";
 	test::writeText(dets, R"([{"scene_id": 2, "image_id": 3, "category_id": 5, "score": 0.5, "bbox": [1, 2, 3, 4], "time": 0.1}, {"scene_id": 2, "image_id": 3, "category_id": 5, "score": "high", "bbox": [1, 2, 3, 4]}])");
 	EXPECT_EQ(errorOf(readDetections(dets)), dets.string() + ": [1].score: expected a number, got string");
+	// A box no int pixel box can hold.
+	test::writeText(dets, R"([{"scene_id": 2, "image_id": 3, "category_id": 5, "score": 0.5, "bbox": [1, 2, 1e300, 4]}])");
+	EXPECT_EQ(errorOf(readDetections(dets)),
+		  dets.string() + ": [0].bbox[2]: must lie within +-1e6 pixels, got " + std::to_string(1e300));
 
 	EXPECT_EQ(readSceneGt(dir / "absent.json").error().code, Errc::kNotFound);
 }
@@ -149,6 +154,44 @@ TEST(BadInput, GtInfoCountMismatch)
 	ASSERT_TRUE(ok) << ok.error().message;
 	EXPECT_TRUE(ok->gtInfo.empty());
 	EXPECT_EQ(ok->gt.at(3).size(), 8u);
+}
+
+// Estimation reads a scene's cameras alone; the ground truth is a separate
+// step that a scene without scene_gt.json fails, naming the file, without
+// touching the cameras. scene_gt_info.json without px_count_valid loads.
+TEST(BadInput, SceneWithoutGroundTruth)
+{
+	auto root = test::freshTempDir("no_gt");
+	fs::copy_file(test::lmoDir() / "camera.json", root / "camera.json");
+	const fs::path scene = root / "test" / "000002";
+	fs::create_directories(scene);
+	fs::copy_file(test::lmoDir() / "test" / "000002" / "scene_camera.json", scene / "scene_camera.json");
+	auto ds = BopDataset::open(root);
+	ASSERT_TRUE(ds) << ds.error().message;
+
+	auto cams = ds->loadSceneCameras(2);
+	ASSERT_TRUE(cams) << cams.error().message;
+	ASSERT_EQ(cams->cameras.size(), 1u);
+	EXPECT_EQ(cams->cameras.at(3).intrinsics.width, 640);
+	EXPECT_TRUE(cams->gt.empty());
+	Status gt = ds->loadSceneGt(*cams);
+	ASSERT_FALSE(gt);
+	EXPECT_EQ(gt.error().code, Errc::kNotFound);
+	EXPECT_TRUE(contains(gt.error().message, (scene / "scene_gt.json").string())) << gt.error().message;
+	EXPECT_EQ(cams->cameras.size(), 1u);
+	EXPECT_FALSE(ds->loadScene(2));
+
+	test::writeText(scene / "scene_gt.json", std::string(R"({"3": [)") + kGoodInstance + "]}");
+	test::writeText(scene / "scene_gt_info.json",
+			R"({"3": [{"bbox_obj": [1, 2, 3, 4], "bbox_visib": [1, 2, 3, 4], "px_count_all": 9, "px_count_visib": 7, "visib_fract": 0.7}]})");
+	gt = ds->loadSceneGt(*cams);
+	ASSERT_TRUE(gt) << gt.error().message;
+	ASSERT_EQ(cams->gtInfo.at(3).size(), 1u);
+	EXPECT_EQ(cams->gtInfo.at(3)[0].pxCountValid, -1);
+	EXPECT_EQ(cams->gtInfo.at(3)[0].pxCountVisib, 7);
+	// Written back without the field it did not have.
+	ASSERT_TRUE(writeSceneGtInfo(scene / "scene_gt_info.json", cams->gtInfo));
+	EXPECT_FALSE(contains(test::readText(scene / "scene_gt_info.json"), "px_count_valid"));
 }
 
 TEST(BadInput, MissingCamera)
@@ -193,6 +236,58 @@ TEST(BadInput, ResultsCsv)
 	auto empty = readResultsCsv(f);
 	ASSERT_TRUE(empty) << empty.error().message;
 	EXPECT_TRUE(empty->empty());
+}
+
+// PNG chunks and headers that claim far more than the file holds (inputs
+// found by tests/fuzz/fuzz_depth_png): a text chunk claiming 2 GB made
+// libpng allocate it, and a 32768 x 32768 header the 2 GiB image, before
+// any data was read. Both are refused with an error naming the file.
+TEST(BadInput, DepthPngClaimingHugeSizes)
+{
+	auto dir = test::freshTempDir("png_claims");
+	auto u32 = [](std::string &s, uint32_t v) {
+		for (int shift : {24, 16, 8, 0})
+			s += static_cast<char>((v >> shift) & 0xff);
+	};
+	// Signature, IHDR (CRC checked by libpng), then a chunk header.
+	auto png = [&](uint32_t w, uint32_t h) {
+		std::string s = "\x89PNG\r\n\x1a\n";
+		std::string ihdr = "IHDR";
+		u32(ihdr, w);
+		u32(ihdr, h);
+		ihdr += std::string("\x10\x00\x00\x00\x00", 5); // 16-bit grey, no interlace
+		u32(s, 13);
+		s += ihdr;
+		u32(s, static_cast<uint32_t>(crc32(0, reinterpret_cast<const Bytef *>(ihdr.data()), ihdr.size())));
+		return s;
+	};
+	std::string chunk = png(1, 1);
+	u32(chunk, 0x7ffffff0u);
+	chunk += "tEXtabcd";
+	test::writeText(dir / "chunk.png", chunk);
+	auto c = readDepthPng(dir / "chunk.png");
+	ASSERT_FALSE(c);
+	EXPECT_EQ(c.error().code, Errc::kCorrupt);
+	EXPECT_TRUE(contains(c.error().message, (dir / "chunk.png").string() + ": bad PNG")) << c.error().message;
+
+	std::string wide = png(32768, 32768);
+	u32(wide, 12);
+	wide += "IDAT" + std::string(16, '\0');
+	test::writeText(dir / "wide.png", wide);
+	auto w = readDepthPng(dir / "wide.png");
+	ASSERT_FALSE(w);
+	EXPECT_EQ(w.error().code, Errc::kCorrupt);
+	EXPECT_EQ(w.error().message, (dir / "wide.png").string() + ": header claims a 32768x32768 image, more than "
+								   "the file's " + std::to_string(wide.size()) +
+					     " bytes can hold (truncated?)");
+	// Past libpng's own limit on a side.
+	std::string huge = png(40000, 2);
+	u32(huge, 0);
+	huge += "IEND";
+	test::writeText(dir / "huge.png", huge);
+	auto h = readDepthPng(dir / "huge.png");
+	ASSERT_FALSE(h);
+	EXPECT_TRUE(contains(h.error().message, (dir / "huge.png").string() + ": bad PNG header")) << h.error().message;
 }
 
 TEST(BadInput, DepthPngNot16Bit)

@@ -385,6 +385,53 @@ TEST_F(PlyTest, BrokenFilesNameFileAndPlace)
 	}
 }
 
+// Headers that lie about the body (inputs found by tests/fuzz/fuzz_ply):
+// the body must start after end_header's line break and stay inside the
+// file, huge counts fail on the first missing byte, and an element without
+// properties takes no bytes whatever its count.
+TEST_F(PlyTest, LyingHeadersAreRefusedWithoutRunaway)
+{
+	const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
+	const std::string bin = "ply\nformat binary_little_endian 1.0\n";
+	struct Case {
+		std::string name, text;
+		std::vector<std::string> mentions;
+	};
+	const std::vector<Case> cases = {
+		// Read 100 vertices of heap memory past the end of the file.
+		{"endheader.ply", bin + "element vertex 100\n" + xyz + "end_header", {"header line 7", "'end_header' has no line break"}},
+		// Aborted on std::length_error reserving the faces.
+		{"endheader_faces.ply",
+		 bin + "element vertex 3\n" + xyz + "element face 4000000000\nproperty list uchar int vertex_indices\nend_header",
+		 {"'end_header' has no line break"}},
+		{"ascii_endheader.ply", "ply\nformat ascii 1.0\nelement vertex 0\n" + xyz + "end_header", {"'end_header'"}},
+		{"huge_faces.ply",
+		 bin + "element vertex 0\n" + xyz + "element face 18446744073709551615\nproperty list uchar int vertex_indices\nend_header\n",
+		 {"truncated", "'face' item 0"}},
+	};
+	for (const Case &c : cases) {
+		SCOPED_TRACE(c.name);
+		const fs::path path = dir_ / c.name;
+		writeText(path, c.text);
+		auto m = loadPly(path);
+		ASSERT_FALSE(m.ok());
+		EXPECT_EQ(m.error().code, Errc::kCorrupt) << m.error().message;
+		EXPECT_NE(m.error().message.find(path.string()), std::string::npos) << m.error().message;
+		for (const std::string &word : c.mentions)
+			EXPECT_NE(m.error().message.find(word), std::string::npos) << m.error().message << " lacks " << word;
+	}
+
+	// Looped 2^64 - 1 times over an element of no bytes.
+	std::string empty = bin + "element vertex 1\n" + xyz + "element nothing 18446744073709551615\nend_header\n";
+	for (float v : {1.0f, 2.0f, 3.0f})
+		put<float>(empty, v, false);
+	writeText(dir_ / "empty_element.ply", empty);
+	auto m = loadPly(dir_ / "empty_element.ply");
+	ASSERT_TRUE(m.ok()) << m.error().message;
+	ASSERT_EQ(m->vertices.size(), 1u);
+	EXPECT_EQ(m->vertices[0], Eigen::Vector3f(1, 2, 3));
+}
+
 TEST_F(PlyTest, TruncatedCopiesOfARealModelFail)
 {
 	auto full = loadPly(test::lmoDir() / "models" / "obj_000001.ply");

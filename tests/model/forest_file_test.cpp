@@ -525,6 +525,57 @@ TEST_F(ForestFileTest, ForgedTableAndParamsAreRefused)
 		<< e.message;
 }
 
+// Counts that would make the loader allocate or compute beyond reason are
+// refused first (inputs found by tests/fuzz/fuzz_forest_file): a tree count
+// of 2^32 - 1 reserved ~170 GB; an n_phi whose bins product overflows int
+// to the stored dims was accepted.
+TEST_F(ForestFileTest, HugeCountsAreRefusedBeforeAllocating)
+{
+	const Bytes full = test::readBytes(save(TemplateEncoding::kUint8));
+	const auto entries = test::rawEntries(full);
+
+	Bytes b = full;
+	const auto *forest = test::findEntry(entries, test::kRawForest);
+	test::wr32(b, forest->offset + 8, 0xFFFFFFFFu);
+	test::resealCrcs(b);
+	Error e = loadErrorOf(b);
+	EXPECT_EQ(e.code, Errc::kCorrupt);
+	EXPECT_NE(e.message.find("FOREST: 4294967295 trees but the section table has"), std::string::npos)
+		<< e.message;
+
+	// 2 x 3 x 4 x (4 + 2^29) is 96 modulo 2^32. The PARAMS text keeps its
+	// length: the longer number takes the place of indentation.
+	b = full;
+	const auto *params = test::findEntry(entries, test::kRawParams);
+	std::string text(b.begin() + params->offset, b.begin() + params->offset + params->size);
+	const std::string from = "\"n_phi\": 4", to = "\"n_phi\":536870916";
+	const size_t pos = text.find(from);
+	ASSERT_NE(pos, std::string::npos) << text;
+	text.replace(pos, from.size(), to);
+	// One space less of indentation on each of the first lines.
+	for (size_t grow = to.size() - from.size(), at = 0; grow > 0; --grow) {
+		at = text.find("\n ", at);
+		ASSERT_NE(at, std::string::npos) << text;
+		text.erase(++at, 1);
+	}
+	ASSERT_EQ(text.size(), params->size);
+	std::copy(text.begin(), text.end(), b.begin() + params->offset);
+	test::resealCrcs(b);
+	e = loadErrorOf(b);
+	EXPECT_EQ(e.code, Errc::kOutOfRange);
+	EXPECT_NE(e.message.find("PARAMS: hocp: bin counts n_r 3 x n_theta 4 x n_phi 536870916 give 12884901984 "
+				 "dimensions, more than the 65536 allowed"),
+		  std::string::npos)
+		<< e.message;
+
+	// The writer refuses such parameters too.
+	params_.hocp.nPhi = 536870916;
+	ForestStorage storage(forest_, TemplateEncoding::kUint8);
+	Status s = saveModelFile(dir_ / "wide.ihf", params_, mesh_, storage.view());
+	ASSERT_FALSE(s.ok());
+	EXPECT_NE(s.error().message.find("n_phi 536870916"), std::string::npos) << s.error().message;
+}
+
 TEST_F(ForestFileTest, MissingFile)
 {
 	Error e = loadError(dir_ / "nothing.ihf");

@@ -208,5 +208,87 @@ TEST_F(EstimateCli, ABadBudgetValueNamesFileAndKey)
 	EXPECT_NE(r.output.find("budget.tight_below_ms"), std::string::npos) << r.output;
 }
 
+// Estimation needs no ground truth: on a copy of the LM-O frame with only
+// camera.json, scene_camera.json and the depth image (as a BOP test split or
+// a user's own scenes), and on one with partial ground truth (scene_gt.json
+// without the box's object, scene_gt_info.json without px_count_valid), the
+// CSV is the same, byte for byte, as on the original. The trace says it has
+// no truth to compare with; `ihf eval` still requires scene_gt.json.
+TEST_F(EstimateCli, NeedsNoGroundTruth)
+{
+	namespace fs = std::filesystem;
+	const fs::path bare = *dir_ / "lmo_no_gt", partial = *dir_ / "lmo_partial_gt";
+	const fs::path scene = fs::path("test") / "000002";
+	for (const fs::path &root : {bare, partial}) {
+		fs::remove_all(root);
+		fs::create_directories(root / scene / "depth");
+		fs::create_directories(root / "models");
+		fs::copy_file(test::lmoDir() / "camera.json", root / "camera.json");
+		fs::copy_file(test::lmoDir() / "models" / "models_info.json", root / "models" / "models_info.json");
+		fs::copy_file(test::lmoDir() / scene / "scene_camera.json", root / scene / "scene_camera.json");
+		fs::copy_file(test::lmoDir() / scene / "depth" / "000003.png", root / scene / "depth" / "000003.png");
+	}
+	ASSERT_FALSE(fs::exists(bare / scene / "scene_gt.json"));
+	// Ground truth of other objects only, and a gt_info entry per instance
+	// without px_count_valid.
+	std::ofstream(partial / scene / "scene_gt.json")
+		<< R"({"3": [{"cam_R_m2c": [1, 0, 0, 0, 1, 0, 0, 0, 1], "cam_t_m2c": [0, 0, 900], "obj_id": 5}]})";
+	std::ofstream(partial / scene / "scene_gt_info.json")
+		<< R"({"3": [{"bbox_obj": [376, 226, 60, 91], "bbox_visib": [376, 226, 60, 91], "px_count_all": 4000,)"
+		   R"( "px_count_visib": 3000, "visib_fract": 0.75}]})";
+
+	auto estimate = [&](const fs::path &dataset, const std::string &csv, const std::string &extra) {
+		return test::runIhf("estimate --dataset '" + dataset.string() + "' --boxes '" +
+				    (*dir_ / "boxes.json").string() + "' --forest 9='" + (*dir_ / "duck.ihf").string() +
+				    "' --out '" + (*dir_ / csv).string() +
+				    "' --quiet --no-time --iterations 1 --budget-ms 0 --threads 1 " + extra);
+	};
+	auto bytes = [&](const std::string &csv) {
+		std::ifstream in(*dir_ / csv, std::ios::binary);
+		return std::string(std::istreambuf_iterator<char>(in), {});
+	};
+	auto r = estimate(test::lmoDir(), "with_gt.csv", "");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	const std::string want = bytes("with_gt.csv");
+	// Both duck boxes have a pose, with the unknown time.
+	ASSERT_EQ(std::count(want.begin(), want.end(), '\n'), 3) << want;
+	EXPECT_NE(want.find(",-1\n"), std::string::npos) << want;
+
+	const fs::path trace = *dir_ / "no_gt_trace.jsonl";
+	r = estimate(bare, "no_gt.csv", "--trace '" + trace.string() + "'");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_EQ(bytes("no_gt.csv"), want);
+	EXPECT_NE(r.output.find("scene 2 has no ground truth to trace against"), std::string::npos) << r.output;
+	int noTruth = 0, givens = 0, votes = 0;
+	std::ifstream in(trace);
+	for (std::string line; std::getline(in, line);) {
+		const auto j = nlohmann::json::parse(line);
+		const std::string stage = j["stage"];
+		if (stage == "no_truth") {
+			++noTruth;
+			EXPECT_NE(j["reason"].get<std::string>().find("scene_gt.json"), std::string::npos) << line;
+		}
+		givens += stage == "given";
+		votes += stage == "votes";
+	}
+	EXPECT_EQ(noTruth, 2); // once per duck box
+	EXPECT_EQ(givens, 0);
+	EXPECT_EQ(votes, 0);
+
+	r = estimate(partial, "partial_gt.csv", "--trace '" + trace.string() + "'");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_EQ(bytes("partial_gt.csv"), want);
+	std::ifstream partialTrace(trace);
+	const std::string traced(std::istreambuf_iterator<char>(partialTrace), {});
+	EXPECT_NE(traced.find(R"("stage":"no_truth","reason":"scene_gt.json has no object 9 in image 3")"),
+		  std::string::npos)
+		<< traced;
+
+	// Evaluation compares with the ground truth, so it needs it.
+	r = test::runIhf("eval --dataset '" + bare.string() + "' --results '" + (*dir_ / "no_gt.csv").string() + "'");
+	EXPECT_EQ(r.exitCode, 1) << r.output;
+	EXPECT_NE(r.output.find("scene_gt.json"), std::string::npos) << r.output;
+}
+
 } // namespace
 } // namespace ihf
