@@ -31,7 +31,10 @@ struct SequenceParams {
 	double changeProbability = 0.5;
 	double carrySecondsMin = 0.8, carrySecondsMax = 1.2;
 	double targetGapMax = 50; // mm between a target and the one it is placed beside
-	double groupRadius = 260; // mm: targets and their new places stay this near the centre
+	// Share of targets placed in line with their neighbour along the
+	// camera's base direction (they hide each other as the view swings).
+	double inLineProbability = 0.7;
+	double groupRadius = 260; // mm: targets stand this near the first, new places this near their mean
 	DetectorParams detector;
 	bool keepClean = false; // keep the clean render in each frame (tests)
 };

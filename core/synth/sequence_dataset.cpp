@@ -32,14 +32,15 @@ const char *carryName(CarryKind kind)
 	return "?";
 }
 
-double rounded(double v, double step) { return std::round(v / step) * step; }
+// Seconds to the millisecond (the nearest double to the decimal).
+double millis(double v) { return std::round(v * 1000.0) / 1000.0; }
 
 nlohmann::ordered_json describeScene(const SequenceScene &scene, double fps)
 {
 	nlohmann::ordered_json j;
 	j["scene_id"] = scene.sequenceId;
 	j["motion"] = cameraMotionName(scene.path.style());
-	j["duration_s"] = rounded(scene.path.duration(), 1e-3);
+	j["duration_s"] = millis(scene.path.duration());
 	std::vector<int> targets;
 	for (const TargetSlot &t : scene.targets)
 		targets.push_back(t.objId);
@@ -52,15 +53,15 @@ nlohmann::ordered_json describeScene(const SequenceScene &scene, double fps)
 			e["obj_id"] = t.objId;
 			e["start_frame"] = static_cast<int>(std::ceil(c.start * fps));
 			e["end_frame"] = static_cast<int>(std::ceil(c.end * fps));
-			e["start_s"] = rounded(c.start, 1e-3);
-			e["end_s"] = rounded(c.end, 1e-3);
+			e["start_s"] = millis(c.start);
+			e["end_s"] = millis(c.end);
 			events.push_back(e);
 		}
 	}
 	j["events"] = events;
 	nlohmann::ordered_json pauses = nlohmann::ordered_json::array();
 	for (const PathPause &p : scene.path.pauses())
-		pauses.push_back({rounded(p.start, 1e-3), rounded(p.end, 1e-3)});
+		pauses.push_back({millis(p.start), millis(p.end)});
 	j["pauses_s"] = pauses;
 	j["quick_turns"] = scene.path.quickTurns();
 	return j;

@@ -177,7 +177,12 @@ Expected<SequenceScene> Planner::attempt(uint64_t key, int index)
 	}
 	const int slots = n + (change == Change::kPutDown ? 1 : 0);
 
-	// The targets: the first at the origin, the others close around it.
+	// The side of the table the camera works from.
+	baseAzimuth_ = rng.uniform(0, 2 * kPi);
+
+	// The targets: the first at the origin, the others close around it,
+	// mostly in front of or behind one another as seen from the camera's
+	// side, so that they hide each other as the view swings.
 	SceneLayout &layout = scene.layout;
 	std::vector<Placed> placed;
 	for (int i = 0; i < slots; ++i) {
@@ -192,7 +197,10 @@ Expected<SequenceScene> Planner::attempt(uint64_t key, int index)
 			// Beside a target already placed, a small gap between them.
 			SceneLayout anchor;
 			anchor.objects.push_back(layout.objects[rng.below(layout.objects.size())]);
-			const Eigen::Vector2d dir = unit(rng.uniform(0, 2 * kPi));
+			const double along = baseAzimuth_ + (rng.chance(0.5) ? 0.0 : kPi) + rng.uniform(-0.7, 0.7);
+			// In line first; anywhere around when the line is full.
+			const bool inLine = t < 20 && rng.chance(p_.inLineProbability);
+			const Eigen::Vector2d dir = unit(inLine ? along : rng.uniform(0, 2 * kPi));
 			const double d = sampler_.clearDistance(anchor, obj, dir, {0, 0},
 								 rng.uniform(2.0, p_.targetGapMax)) +
 					 (t / 40.0) * 100.0 * rng.uniform01();
@@ -200,7 +208,8 @@ Expected<SequenceScene> Planner::attempt(uint64_t key, int index)
 			ok = obj.footprint.centre.norm() <= p_.groupRadius && !overlapsAny(layout.objects, obj, -1, 2.0);
 		}
 		if (!ok)
-			return fail("no room for " + std::to_string(slots) + " targets together");
+			return fail("no room for " + std::to_string(slots) + " targets within " +
+				    std::to_string(static_cast<int>(p_.groupRadius)) + " mm of the first");
 		layout.objects.push_back(obj);
 		placed.push_back({model.objId, rest});
 	}
@@ -216,7 +225,6 @@ Expected<SequenceScene> Planner::attempt(uint64_t key, int index)
 			   ? (rng.chance(0.5) ? CameraMotion::kHandheld : CameraMotion::kRobot)
 			   : p_.motion;
 	pp.durationS = duration_;
-	baseAzimuth_ = rng.uniform(0, 2 * kPi);
 	scene.path = CameraPath::sample(pp, K_, scene.centre, baseAzimuth_, rng);
 	cameras_.clear();
 	views_.clear();
@@ -226,7 +234,7 @@ Expected<SequenceScene> Planner::attempt(uint64_t key, int index)
 	}
 	for (int i = 0; i < slots; ++i)
 		if (clearance(layout.objects[static_cast<size_t>(i)], 0, p_.frames) < lp.minCameraClearance)
-			return fail("the camera's path comes too near a target");
+			return fail("the camera's path comes too near a target (try a larger --distance)");
 	layout.view.worldToCamera = views_[0];
 	layout.view.centre = cameras_[0];
 
@@ -339,8 +347,8 @@ Expected<SequenceScene> planSequenceScene(const ModelLibrary &library, const Cam
 		}
 		last = scene.error();
 	}
-	return makeError(Errc::kOutOfRange, last.message + " (after " + std::to_string(kMaxAttempts) +
-						    " attempts; try a larger --distance)");
+	return makeError(Errc::kOutOfRange,
+			 last.message + " (after " + std::to_string(kMaxAttempts) + " attempts)");
 }
 
 } // namespace ihf

@@ -128,17 +128,23 @@ TEST_F(SynthSequence, GroundTruthAgreesWithTheDepthAndBoxesHoldTheVisibleObjects
 				EXPECT_LT(sensorError[sensorError.size() / 2], 4.0);
 			}
 			// At the projected centre of its visible part, when that pixel
-			// is the object's and away from its outline, the sensor agrees
-			// with the pose within 5 sigma and a step.
+			// is the object's and 3 px away from its outline, the sensor
+			// agrees with the pose within 5 sigma and a step (the Kinect
+			// moves depth sideways by up to 2 px: some pose depth within
+			// 2 px must match).
 			const int px = static_cast<int>(std::lround(cx / visible)), py = static_cast<int>(std::lround(cy / visible));
-			bool interior = px >= 2 && py >= 2 && px < K_.width - 2 && py < K_.height - 2;
-			for (int dy = -2; dy <= 2 && interior; ++dy)
-				for (int dx = -2; dx <= 2 && interior; ++dx)
+			bool interior = px >= 3 && py >= 3 && px < K_.width - 3 && py < K_.height - 3;
+			for (int dy = -3; dy <= 3 && interior; ++dy)
+				for (int dx = -3; dx <= 3 && interior; ++dx)
 					interior = frame->cleanLabel.at(px + dx, py + dy) == label;
 			if (interior && frame->depth.at(px, py) > 0) {
 				const double z = alone.at(px, py);
-				EXPECT_NEAR(frame->depth.at(px, py), z,
-					    5 * kinectAxialSigmaMm(kp, z, 1.2) + kinectDepthStep(kp, z) + 1.0);
+				double best = 1e9;
+				for (int dy = -2; dy <= 2; ++dy)
+					for (int dx = -2; dx <= 2; ++dx)
+						best = std::min(best, std::abs(frame->depth.at(px, py) -
+									       static_cast<double>(alone.at(px + dx, py + dy))));
+				EXPECT_LE(best, 5 * kinectAxialSigmaMm(kp, z, 1.2) + kinectDepthStep(kp, z) + 1.0);
 				++centres;
 			}
 
