@@ -46,7 +46,8 @@ else:
     if over:
         parts.append(f'frame overruns {over[0]}')
 
-if a.sequences:
+import os
+if a.sequences and os.path.exists(a.sequences):
     seqs = json.load(open(a.sequences))
     scenes = seqs['scenes'] if isinstance(seqs, dict) else seqs
     diam = {o['obj_id']: o['diameter'] for o in rep['objects']}

@@ -97,24 +97,24 @@ TrackRefinement TrackRefiner::refine(ImageView<const float> depth, const CameraI
 	const PolishResult polished =
 		polishInWindow(scoreWindow, model, start, predictedScore.depthMin * config.psi1,
 			       predictedScore.depthMax * config.psi2, tracking.icp, buffers);
-	if (!polished.valid) {
-		out.verdict = TrackVerdict::kNoFit;
-		return out;
-	}
 	const ModelParams &params = model.params();
-	const HypothesisScore &s = polished.score;
+	// The polish is taken when it stayed near the prediction and scores at
+	// least as well; else the prediction itself stands, if it still holds
+	// (an object at rest whose ICP slides off a poor fit keeps its pose, and
+	// costs no detection).
+	const bool jumped = polished.valid &&
+			    ((polished.pose.t - start.t).norm() > tracking.maxStepShare * params.diameter ||
+			     rotationAngle(polished.pose.R, start.R) > tracking.maxStepDeg * M_PI / 180.0);
+	const bool takePolish = polished.valid && !jumped && polished.score.score >= predictedScore.score;
+	const Pose chosen = takePolish ? polished.pose : start;
+	const HypothesisScore &s = takePolish ? polished.score : predictedScore;
 	out.estimate.score = s;
 	if (s.score < tracking.minScore || s.score < tracking.keepShare * detectionScore) {
-		out.verdict = TrackVerdict::kLowScore;
+		out.verdict = jumped ? TrackVerdict::kJumped : polished.valid ? TrackVerdict::kLowScore : TrackVerdict::kNoFit;
 		return out;
 	}
 	if (s.boxFactor < tracking.minBoxFactor) {
 		out.verdict = TrackVerdict::kLeftBox;
-		return out;
-	}
-	if ((polished.pose.t - start.t).norm() > tracking.maxStepShare * params.diameter ||
-	    rotationAngle(polished.pose.R, start.R) > tracking.maxStepDeg * M_PI / 180.0) {
-		out.verdict = TrackVerdict::kJumped;
 		return out;
 	}
 	// The rivals: the pose turned half round about the model's box axes
@@ -128,7 +128,7 @@ TrackRefinement TrackRefiner::refine(ImageView<const float> depth, const CameraI
 			const Eigen::Matrix3d turn =
 				Eigen::DiagonalMatrix<double, 3>(axis == 0 ? 1 : -1, axis == 1 ? 1 : -1, axis == 2 ? 1 : -1)
 					.toDenseMatrix();
-			const Pose turned = turnedAbout(polished.pose, turn, centre);
+			const Pose turned = turnedAbout(chosen, turn, centre);
 			rival = std::max(rival, scoreInWindow(scoreWindow, renderer_, render, model, turned).score);
 		}
 		margin = std::max(0.0f, s.score - rival);
@@ -141,11 +141,11 @@ TrackRefinement TrackRefiner::refine(ImageView<const float> depth, const CameraI
 	PoseEstimate &e = out.estimate;
 	e.found = true;
 	e.reason = "";
-	e.pose.R = Rv * polished.pose.R;
-	e.pose.t = Rv * polished.pose.t;
+	e.pose.R = Rv * chosen.R;
+	e.pose.t = Rv * chosen.t;
 	e.margin = margin;
 	e.confidence = poseConfidence(s.score, margin, config.confidence);
-	e.icpApplied = true;
+	e.icpApplied = takePolish;
 	e.bestIteration = 0;
 	return out;
 }

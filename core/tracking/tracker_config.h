@@ -43,8 +43,10 @@ struct TrackerConfig {
 	// ...its projected model agrees with the box at least this much
 	// (ScoreConfig's box factor: a pose leaving its box falls)...
 	float minBoxFactor = 0.5f;
-	// ...the polish moved it from the prediction by at most this share of
-	// the diameter and this many degrees...
+	// The polish is taken only if it moved the pose from the prediction by
+	// at most this share of the diameter and this many degrees and scores
+	// at least as well; else the prediction itself is checked as above
+	// (and below)...
 	float maxStepShare = 0.3f;
 	float maxStepDeg = 30.0f;
 	// ...and none of its half-turns about the model's box axes scores
