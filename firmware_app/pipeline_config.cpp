@@ -729,6 +729,7 @@ Expected<RunSettings> loadRunConfig(const std::filesystem::path &path)
 	tracking.get("max_missed_frames", tc.maxMissedFrames);
 	tracking.get("max_defer_frames", tc.maxDeferFrames);
 	tracking.get("detect_min_ms", tc.detectMinMs);
+	tracking.get("refresh", tc.refresh);
 	tracking.get("min_score", tc.minScore);
 	tracking.get("keep_share", tc.keepShare);
 	IHF_SECTION(tracking);

@@ -54,6 +54,7 @@ match_iou = 0.4
 max_missed_frames = 9
 max_defer_frames = 2
 detect_min_ms = 12.5
+refresh = false
 min_score = 0.35
 keep_share = 0.6
 [run]
@@ -85,6 +86,7 @@ max_frames = 100
 	EXPECT_EQ(s->tracking.maxMissedFrames, 9);
 	EXPECT_EQ(s->tracking.maxDeferFrames, 2);
 	EXPECT_FLOAT_EQ(s->tracking.detectMinMs, 12.5f);
+	EXPECT_FALSE(s->tracking.refresh);
 	EXPECT_FLOAT_EQ(s->tracking.minScore, 0.35f);
 	EXPECT_FLOAT_EQ(s->tracking.keepShare, 0.6f);
 	EXPECT_EQ(s->frameBudgetMs, 66.5);
