@@ -307,7 +307,7 @@ void StreamEstimator::detectBoxes(uint64_t frame, ImageView<const float> depth, 
 		size_t due = 0;
 		for (size_t k = 0; k < wanted; ++k)
 			due += trackOf_[static_cast<size_t>(order_[k])]->waiting >= config_.maxDeferFrames - 1;
-		const double leftMs = static_cast<double>(deadline - clock_.nowNs()) * 1e-6;
+		const double leftMs = usableMs(deadline);
 		const size_t fit = leftMs > 0 && config_.detectMinMs > 0
 					   ? static_cast<size_t>(leftMs / static_cast<double>(config_.detectMinMs))
 					   : (leftMs > 0 ? wanted : 0);
@@ -320,6 +320,7 @@ void StreamEstimator::detectBoxes(uint64_t frame, ImageView<const float> depth, 
 			std::max({leftMs, static_cast<double>(run) * static_cast<double>(config_.detectMinMs), 1e-3}));
 	}
 	if (run > 0) {
+		const int64_t groupStart = clock_.nowNs();
 		detector_.beginFrame(static_cast<int>(run), unlimited ? 0.0f : shareMs);
 		for (size_t k = 0; k < run; ++k) {
 			const size_t i = static_cast<size_t>(order_[k]);
@@ -345,6 +346,8 @@ void StreamEstimator::detectBoxes(uint64_t frame, ImageView<const float> depth, 
 			}
 		}
 		detector_.endFrame();
+		if (!unlimited)
+			observeOvershoot(groupStart, shareMs);
 	}
 	for (size_t k = run; k < wanted; ++k) {
 		const size_t i = static_cast<size_t>(order_[k]);
@@ -375,7 +378,7 @@ void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth
 		if (results[i].mode == BoxMode::kTrack)
 			order_[tracked++] = static_cast<int>(i);
 	}
-	const double leftMs = static_cast<double>(deadline - clock_.nowNs()) * 1e-6;
+	const double leftMs = usableMs(deadline);
 	const size_t run = std::min(tracked, static_cast<size_t>(std::max(0.0, leftMs / config_.detectMinMs)));
 	if (run == 0)
 		return;
@@ -384,6 +387,7 @@ void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth
 	for (size_t k = 1; k < tracked; ++k)
 		for (size_t j = k; j > 0 && age(j - 1) < age(j); --j)
 			std::swap(order_[j - 1], order_[j]);
+	const int64_t groupStart = clock_.nowNs();
 	detector_.beginFrame(static_cast<int>(run), static_cast<float>(leftMs));
 	for (size_t k = 0; k < run; ++k) {
 		const size_t i = static_cast<size_t>(order_[k]);
@@ -394,7 +398,9 @@ void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth
 		const int64_t ns = clock_.nowNs() - t0;
 		count(stats_.detectTime, ns);
 		++stats_.refreshed;
-		if (e.found && e.score.score > r.estimate.score.score) {
+		// A detection within rivalMargin of the tracked score is a tie,
+		// and a tie keeps the track (its polish is the finer).
+		if (e.found && e.score.score > r.estimate.score.score + config_.rivalMargin) {
 			++stats_.refreshWins;
 			r.mode = BoxMode::kDetect;
 			r.estimate = e;
@@ -413,6 +419,18 @@ void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth
 		}
 	}
 	detector_.endFrame();
+	observeOvershoot(groupStart, static_cast<float>(leftMs));
+}
+
+double StreamEstimator::usableMs(int64_t deadline) const
+{
+	return static_cast<double>(deadline - clock_.nowNs()) * 1e-6 - overshootMs_;
+}
+
+void StreamEstimator::observeOvershoot(int64_t groupStart, float shareMs)
+{
+	const double overMs = static_cast<double>(clock_.nowNs() - groupStart) * 1e-6 - static_cast<double>(shareMs);
+	overshootMs_ = std::max(overMs, overshootMs_);
 }
 
 void StreamEstimator::endUnmatched()
@@ -481,6 +499,10 @@ void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth
 	const int64_t end = clock_.nowNs();
 	stats_.worstFrameNs = std::max(stats_.worstFrameNs, end - start);
 	stats_.frameOverruns += end > deadline;
+	// The frame's own overshoot too (its tracked boxes ran before its
+	// detections were planned); the reserve fades a frame at a time.
+	if (budgetMs > 0)
+		overshootMs_ = std::max(static_cast<double>(end - deadline) * 1e-6, overshootMs_ * kOvershootDecay);
 }
 
 } // namespace ihf

@@ -122,6 +122,17 @@ private:
 			   std::span<const StreamBox> boxes, const EstimatorConfig &config, int64_t deadline,
 			   std::span<StreamResult> results);
 	void place(Track &t, const PoseEstimate &e, uint64_t frame, bool fromTrack);
+	// The frame's time left for detections, less what detections have run
+	// past their share lately.
+	double usableMs(int64_t deadline) const;
+	void observeOvershoot(int64_t groupStart, float shareMs);
+
+	// A detection runs a little past its share (its registration is never
+	// cut, a stage's cost is a prediction): the largest recent overshoot of
+	// a detection or a frame, fading by this factor a frame, is kept off
+	// later shares so that frames end inside their budget.
+	static constexpr double kOvershootDecay = 0.98;
+	double overshootMs_ = 0;
 	void endUnmatched();
 
 	PoseEstimator &detector_;
