@@ -60,8 +60,11 @@ for n in 3 8; do
 	run "seq${n}_track_unbudgeted" "$d" --budget-ms 0 --sequence
 	run "seq${n}_track_33ms" "$d" --budget-ms 33 --sequence
 	run "seq${n}_cold_33ms" "$d" --budget-ms 33
+	# [tracking] refresh measured against off.
+	printf '[tracking]\nrefresh = false\n' > "$out/norefresh.toml"
+	run "seq${n}_track_33ms_norefresh" "$d" --budget-ms 33 --sequence --run-config "$out/norefresh.toml"
 	run "seq${n}_every5_cold_unbudgeted" "${d}_every5" --budget-ms 0
-	for r in track_unbudgeted track_33ms cold_33ms; do
+	for r in track_unbudgeted track_33ms cold_33ms track_33ms_norefresh; do
 		python3 "$here/subset.py" --dataset "$d" --every 5 --csv "$out/results/seq${n}_$r.csv" \
 			"$out/results/seq${n}_every5_$r.csv"
 		score "seq${n}_every5_$r" "${d}_every5" "seq${n}_$r"

@@ -131,7 +131,7 @@ private:
 	// cut, a stage's cost is a prediction): the largest recent overshoot of
 	// a detection or a frame, fading by this factor a frame, is kept off
 	// later shares so that frames end inside their budget.
-	static constexpr double kOvershootDecay = 0.98;
+	static constexpr double kOvershootDecay = 0.995;
 	double overshootMs_ = 0;
 	void endUnmatched();
 
