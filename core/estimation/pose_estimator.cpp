@@ -670,20 +670,25 @@ PoseEstimator::Hypothesis PoseEstimator::polishIcp(const Hypothesis &h, const Ca
 	return out;
 }
 
+PoseEstimator::Hypothesis PoseEstimator::fromPolish(const PolishResult &polished, int iteration)
+{
+	Hypothesis out;
+	if (polished.valid) {
+		out.pose = polished.pose;
+		out.score = polished.score;
+		out.iteration = iteration;
+		out.valid = true;
+	}
+	return out;
+}
+
 PoseEstimator::Hypothesis PoseEstimator::icpAndScore(const Hypothesis &h, std::span<const CloudPoint> cloud,
 						     const CameraIntrinsics &K, const ObjectModel &model,
 						     const EstimatorConfig &config, int slot, const IcpConfig &icpConfig)
 {
 	const PolishResult polished =
 		polishFromCloud(scoreWindow(K, config), model, h.pose, cloud, icpConfig, rendererOf(slot), renderViewOf(slot));
-	Hypothesis out;
-	if (polished.valid) {
-		out.pose = polished.pose;
-		out.score = polished.score;
-		out.iteration = h.iteration;
-		out.valid = true;
-	}
-	return out;
+	return fromPolish(polished, h.iteration);
 }
 
 PoseEstimator::Hypothesis PoseEstimator::polishOn(const Hypothesis &h, const CameraIntrinsics &K,
@@ -706,14 +711,7 @@ PoseEstimator::Hypothesis PoseEstimator::polishIcpIn(const Hypothesis &h, const 
 				    renderViewOf(slot)};
 	const PolishResult polished = polishInWindow(scoreWindow(K, config), model, h.pose, h.score.depthMin * config.psi1,
 						     h.score.depthMax * config.psi2, icp, buffers);
-	Hypothesis out;
-	if (polished.valid) {
-		out.pose = polished.pose;
-		out.score = polished.score;
-		out.iteration = h.iteration;
-		out.valid = true;
-	}
-	return out;
+	return fromPolish(polished, h.iteration);
 }
 
 // Renders the pose into renderView_ and calls f with every covered pixel

@@ -39,6 +39,7 @@
 #include "core/estimation/depth_windows.h"
 #include "core/estimation/estimator_stats.h"
 #include "core/estimation/hypothesis_score.h"
+#include "core/estimation/icp_polisher.h"
 #include "core/estimation/icp_refiner.h"
 #include "core/estimation/pose_scorer.h"
 #include "core/estimation/rival_poses.h"
@@ -483,6 +484,8 @@ private:
 	// polishIcp() on one thread, polishIcpIn() on several.
 	Hypothesis polishOn(const Hypothesis &h, const CameraIntrinsics &K, const ObjectModel &model,
 			    const EstimatorConfig &config, Stage stage, int slot, const IcpConfig &icp);
+	// A polish as a hypothesis of `iteration` (invalid when ICP could not run).
+	static Hypothesis fromPolish(const PolishResult &polished, int iteration);
 	// Their shared tail: ICP from the cloud on the slot's renderer, then the score.
 	Hypothesis icpAndScore(const Hypothesis &h, std::span<const CloudPoint> cloud, const CameraIntrinsics &K,
 			       const ObjectModel &model, const EstimatorConfig &config, int slot,

@@ -450,9 +450,11 @@ void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth
 				    std::span<const StreamBox> boxes, const EstimatorConfig &config, float budgetMs,
 				    std::span<StreamResult> results)
 {
-	const int64_t start = clock_.nowNs();
-	const int64_t deadline = budgetMs > 0 ? start + static_cast<int64_t>(static_cast<double>(budgetMs) * 1e6)
-					      : std::numeric_limits<int64_t>::max();
+	// The frame's deadline and its overrun count are the frame budget's, as
+	// for the detector's own frames.
+	frame_.beginFrame(clock_.nowNs(), budgetMs > 0 ? static_cast<int64_t>(static_cast<double>(budgetMs) * 1e6) : 0,
+			  static_cast<int>(boxes.size()));
+	const int64_t deadline = frame_.unlimited() ? std::numeric_limits<int64_t>::max() : frame_.frameDeadline();
 	++stats_.frames;
 	const size_t n = std::min(boxes.size(), static_cast<size_t>(kMaxBoxes));
 	for (size_t i = 0; i < boxes.size(); ++i) {
@@ -497,8 +499,9 @@ void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth
 		stats_.skipped += results[i].mode == BoxMode::kSkipped;
 	endUnmatched();
 	const int64_t end = clock_.nowNs();
-	stats_.worstFrameNs = std::max(stats_.worstFrameNs, end - start);
-	stats_.frameOverruns += end > deadline;
+	frame_.endFrame(end);
+	stats_.worstFrameNs = frame_.worstFrameNs();
+	stats_.frameOverruns = frame_.frameOverruns();
 	// The frame's own overshoot too (its tracked boxes ran before its
 	// detections were planned); the reserve fades a frame at a time.
 	if (budgetMs > 0)

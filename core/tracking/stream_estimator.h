@@ -23,6 +23,7 @@
 #include "core/estimation/pose_estimator.h"
 #include "core/runtime/arena.h"
 #include "core/runtime/clock.h"
+#include "core/runtime/frame_budget.h"
 #include "core/tracking/track.h"
 #include "core/tracking/track_refiner.h"
 #include "core/tracking/tracker_config.h"
@@ -141,6 +142,7 @@ private:
 	const Clock &clock_;
 	Arena arena_;
 	TrackRefiner refiner_;
+	FrameBudget frame_; // the whole frame's: tracked boxes and detections
 	bool valid_ = false;
 	int nextId_ = 1;
 	std::array<Track, kMaxTracks> tracks_{};
