@@ -153,11 +153,16 @@ private:
 	std::vector<Pose> truth_;
 };
 
-// As every command turns a detection's box into pixels.
-PixelBox pixelBox(const Detection &d)
+// A box's pose as a row of the results CSV: its score is the confidence.
+ResultRow resultRow(int sceneId, int imId, int objId, const PoseEstimate &e)
 {
-	return {static_cast<int>(std::floor(d.bbox[0])), static_cast<int>(std::floor(d.bbox[1])),
-		static_cast<int>(std::ceil(d.bbox[2])), static_cast<int>(std::ceil(d.bbox[3]))};
+	ResultRow r;
+	r.sceneId = sceneId;
+	r.imId = imId;
+	r.objId = objId;
+	r.score = e.confidence;
+	r.pose = e.pose;
+	return r;
 }
 
 int runEstimate(const EstimateOptions &o)
@@ -376,7 +381,7 @@ int runEstimate(const EstimateOptions &o)
 					skipped++;
 					continue;
 				}
-				streamBoxes.push_back({d->categoryId, pixelBox(*d), 0, mIt->second.get()});
+				streamBoxes.push_back({d->categoryId, pixelsOfBox(d->bbox), 0, mIt->second.get()});
 				streamDets.push_back(d);
 			}
 			std::vector<StreamResult> results(streamBoxes.size());
@@ -404,13 +409,7 @@ int runEstimate(const EstimateOptions &o)
 							     sceneId, imId, d->categoryId, boxModeName(r.mode), r.estimate.reason);
 					continue;
 				}
-				ResultRow row;
-				row.sceneId = sceneId;
-				row.imId = imId;
-				row.objId = d->categoryId;
-				row.score = r.estimate.confidence;
-				row.pose = r.estimate.pose;
-				imageRows.push_back(row);
+				imageRows.push_back(resultRow(sceneId, imId, d->categoryId, r.estimate));
 			}
 			for (auto &r : imageRows) {
 				r.time = o.noTime ? -1 : imageTime;
@@ -435,7 +434,7 @@ int runEstimate(const EstimateOptions &o)
 				skipped++;
 				continue;
 			}
-			const PixelBox box = pixelBox(*d);
+			const PixelBox box = pixelsOfBox(d->bbox);
 			if (trace) {
 				trace->begin(sceneId, imId, d->categoryId, mIt->second->params().diameter);
 				auto gtIt = scene.gt.find(imId);
@@ -478,13 +477,7 @@ int runEstimate(const EstimateOptions &o)
 						     sceneId, imId, d->categoryId, e.reason);
 				continue;
 			}
-			ResultRow r;
-			r.sceneId = sceneId;
-			r.imId = imId;
-			r.objId = d->categoryId;
-			r.score = e.confidence;
-			r.pose = e.pose;
-			imageRows.push_back(r);
+			imageRows.push_back(resultRow(sceneId, imId, d->categoryId, e));
 		}
 		estimator.endFrame();
 		for (auto &r : imageRows) {

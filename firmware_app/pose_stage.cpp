@@ -9,16 +9,6 @@
 
 namespace ihf::app {
 
-namespace {
-
-// As ihf estimate turns a detection's box into pixels.
-PixelBox pixelBox(const FrameBox &b)
-{
-	return {static_cast<int>(std::floor(b.bbox[0])), static_cast<int>(std::floor(b.bbox[1])),
-		static_cast<int>(std::ceil(b.bbox[2])), static_cast<int>(std::ceil(b.bbox[3]))};
-}
-
-} // namespace
 
 PoseStage::PoseStage(std::map<int, const ObjectModel *> models, PoseEstimator &estimator,
 		     const EstimatorConfig &config, BoxFeed &feed, PoseOutput &output, PacingClock &clock,
@@ -97,14 +87,11 @@ Status PoseStage::process(const Frame &frame, int64_t arrivalNs)
 		++counters_.boxes;
 		auto it = models_.find(b.objId);
 		if (it == models_.end()) {
-			++counters_.unknownObject;
-			char msg[64];
-			std::snprintf(msg, sizeof(msg), "no forest for object %d", b.objId);
-			if (Status st = output_.writeError(static_cast<int64_t>(frame.index), b.objId, msg); !st)
+			if (Status st = writeUnknownObject(frame.index, b.objId); !st)
 				return st;
 			continue;
 		}
-		const PixelBox box = pixelBox(b);
+		const PixelBox box = pixelsOfBox(b.bbox);
 		if (observer_)
 			observer_->begin(frame.index, b.objId, box);
 		const int64_t t0 = clock_.nowNs();
@@ -125,7 +112,7 @@ Status PoseStage::processTracked(const Frame &frame, const CameraIntrinsics &K, 
 	for (size_t i = 0; i < n; ++i) {
 		const FrameBox &b = boxes[i];
 		auto it = models_.find(b.objId);
-		streamBoxes_[i] = StreamBox{b.objId, pixelBox(b), b.trackId, it == models_.end() ? nullptr : it->second};
+		streamBoxes_[i] = StreamBox{b.objId, pixelsOfBox(b.bbox), b.trackId, it == models_.end() ? nullptr : it->second};
 	}
 	tracker_->estimateFrame(frame.index, depthMm_.view(), K, std::span<const StreamBox>(streamBoxes_.data(), n),
 				config_, config_.frameBudgetMs, std::span<StreamResult>(streamResults_.data(), n));
@@ -140,10 +127,7 @@ Status PoseStage::processTracked(const Frame &frame, const CameraIntrinsics &K, 
 			continue;
 		}
 		if (!streamBoxes_[i].model) {
-			++counters_.unknownObject;
-			char msg[64];
-			std::snprintf(msg, sizeof(msg), "no forest for object %d", objId);
-			if (Status st = output_.writeError(static_cast<int64_t>(frame.index), objId, msg); !st)
+			if (Status st = writeUnknownObject(frame.index, objId); !st)
 				return st;
 			continue;
 		}
@@ -163,6 +147,14 @@ Status PoseStage::processTracked(const Frame &frame, const CameraIntrinsics &K, 
 			return st;
 	}
 	return {};
+}
+
+Status PoseStage::writeUnknownObject(uint64_t frame, int objId)
+{
+	++counters_.unknownObject;
+	char msg[64];
+	std::snprintf(msg, sizeof(msg), "no forest for object %d", objId);
+	return output_.writeError(static_cast<int64_t>(frame), objId, msg);
 }
 
 Status PoseStage::writeResult(uint64_t frame, int objId, const PoseEstimate &e, double estimateMs,

@@ -77,6 +77,7 @@ private:
 	PacingClock &clock_;
 	std::chrono::milliseconds boxesTimeout_;
 	Status processTracked(const Frame &frame, const CameraIntrinsics &K, int64_t arrivalNs);
+	Status writeUnknownObject(uint64_t frame, int objId);
 	Status writeResult(uint64_t frame, int objId, const PoseEstimate &e, double estimateMs, int64_t arrivalNs,
 			   const char *mode, int trackId);
 

@@ -138,8 +138,7 @@ Expected<PeerRunSummary> runPeer(Peer &peer, const PeerRunOptions &o)
 		std::vector<ResultRow> imageRows;
 		double imageTime = 0;
 		for (const Detection *d : boxes) {
-			PixelBox box{static_cast<int>(std::floor(d->bbox[0])), static_cast<int>(std::floor(d->bbox[1])),
-				     static_cast<int>(std::ceil(d->bbox[2])), static_cast<int>(std::ceil(d->bbox[3]))};
+			const PixelBox box = pixelsOfBox(d->bbox);
 			// The crop is part of the box's time, as it is for `ihf estimate`.
 			auto t0 = Clock::now();
 			auto n = cloudFromDepth(depth->view(), K, box, cloudCfg, cloud);

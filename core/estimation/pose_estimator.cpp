@@ -75,11 +75,6 @@ PartLimits partLimits(const EstimatorLimits &limits)
 	return pl;
 }
 
-OpenSides openSides(const PixelBox &box, int width, int height)
-{
-	return {box.x <= 0, box.y <= 0, box.x + box.w >= width, box.y + box.h >= height};
-}
-
 size_t count(int n)
 {
 	return static_cast<size_t>(std::max(n, 0));
@@ -1193,7 +1188,7 @@ Expected<HypothesisScore> PoseEstimator::scorePose(ImageView<const float> depth,
 	if (status != CropStatus::kOk)
 		return makeError(Errc::kInvalidArgument, "empty box");
 	const CameraIntrinsics &vk = crop.intrinsics;
-	openSides_ = openSides(box, depth.width, depth.height);
+	openSides_ = openSidesOf(box.x, box.y, box.w, box.h, depth.width, depth.height);
 	if (!carveBox(arena_, static_cast<size_t>(vk.width) * vk.height))
 		return makeError(Errc::kCapacity, "arena too small for the box");
 	observedView_ = ImageView<float>(observed_.data(), vk.width, vk.height, vk.width);
@@ -1428,7 +1423,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	}
 	const CameraIntrinsics &vk = crop->intrinsics;
 	boxWork_ = config.budgetScaleByBox ? std::max(1, crop->validPixels) : 1;
-	openSides_ = openSides(box, depth.width, depth.height);
+	openSides_ = openSidesOf(box.x, box.y, box.w, box.h, depth.width, depth.height);
 	const int w = vk.width, h = vk.height;
 	peaks_.windowPixels = std::max(peaks_.windowPixels, w * h);
 	if (!carveBox(arena_, static_cast<size_t>(w) * h)) {

@@ -5,6 +5,8 @@
 // normal estimated from the depth image (unit, towards the camera; zero when
 // it could not be estimated) and the pixel it came from.
 
+#include <array>
+#include <cmath>
 #include <cstdint>
 
 #include <Eigen/Core>
@@ -30,5 +32,14 @@ struct PixelBox {
 	bool empty() const { return w <= 0 || h <= 0; }
 	bool contains(int u, int v) const { return u >= x && v >= y && u < x + w && v < y + h; }
 };
+
+// A detector's box [x, y, w, h] (fractional pixels) as the pixels every
+// command estimates in: corner floored, size rounded up. ihf estimate and
+// ihf run must agree on it to give the same poses.
+inline PixelBox pixelsOfBox(const std::array<double, 4> &xywh)
+{
+	return {static_cast<int>(std::floor(xywh[0])), static_cast<int>(std::floor(xywh[1])),
+		static_cast<int>(std::ceil(xywh[2])), static_cast<int>(std::ceil(xywh[3]))};
+}
 
 } // namespace ihf

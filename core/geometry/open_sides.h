@@ -13,4 +13,10 @@ struct OpenSides {
 	bool bottom = false;
 };
 
+// The sides of box (x, y, w, h pixels) on the border of a width x height frame.
+inline OpenSides openSidesOf(int x, int y, int w, int h, int width, int height)
+{
+	return {x <= 0, y <= 0, x + w >= width, y + h >= height};
+}
+
 } // namespace ihf

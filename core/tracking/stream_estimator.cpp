@@ -70,6 +70,16 @@ Pose repeated(const Pose &delta, double times)
 	return out;
 }
 
+// order[0, n) sorted by key, largest first, ties in their order: an
+// insertion sort, stable and without the buffer std::stable_sort allocates.
+template<typename Key>
+void sortLargestFirst(std::span<int> order, size_t n, Key key)
+{
+	for (size_t k = 1; k < n; ++k)
+		for (size_t j = k; j > 0 && key(order[j - 1]) < key(order[j]); --j)
+			std::swap(order[j - 1], order[j]);
+}
+
 void count(StageCounter &c, int64_t ns)
 {
 	++c.calls;
@@ -115,6 +125,14 @@ void StreamEstimator::reset()
 	for (Track &t : tracks_)
 		t = Track{};
 	nextId_ = 1;
+}
+
+TrackingStats StreamEstimator::stats() const
+{
+	TrackingStats s = stats_;
+	s.frameOverruns = frame_.frameOverruns();
+	s.worstFrameNs = frame_.worstFrameNs();
+	return s;
 }
 
 int StreamEstimator::activeTracks() const
@@ -182,7 +200,20 @@ void StreamEstimator::matchBoxes(std::span<const StreamBox> boxes, const CameraI
 	}
 	// Then by the overlap of each box with each track's predicted
 	// silhouette (the last box of a track that waits for a detection),
-	// greedily, the largest overlap first.
+	// greedily, the largest overlap first. Each track's region once.
+	for (size_t k = 0; k < tracks_.size() && n > 0; ++k) {
+		const Track &t = tracks_[k];
+		Region &r = regions_[k];
+		if (t.state == TrackState::kTracked) {
+			r.valid = projectedBox(t.model->mesh(), predicted(t, frame), K, r.box);
+		} else {
+			r.valid = t.state == TrackState::kPending;
+			r.box[0] = t.lastBox.x;
+			r.box[1] = t.lastBox.y;
+			r.box[2] = static_cast<double>(t.lastBox.x) + t.lastBox.w;
+			r.box[3] = static_cast<double>(t.lastBox.y) + t.lastBox.h;
+		}
+	}
 	size_t pairs = 0;
 	for (size_t i = 0; i < n; ++i) {
 		if (!boxes[i].model || trackOf_[i] || boxes[i].trackId > 0)
@@ -191,14 +222,8 @@ void StreamEstimator::matchBoxes(std::span<const StreamBox> boxes, const CameraI
 			const Track &t = tracks_[k];
 			if (t.state == TrackState::kFree || t.matched || t.objId != boxes[i].objId)
 				continue;
-			double overlap = 0;
-			if (t.state == TrackState::kTracked) {
-				double region[4];
-				if (projectedBox(t.model->mesh(), predicted(t, frame), K, region))
-					overlap = iou(boxes[i].box, region[0], region[1], region[2], region[3]);
-			} else {
-				overlap = iou(boxes[i].box, t.lastBox);
-			}
+			const Region &r = regions_[k];
+			const double overlap = r.valid ? iou(boxes[i].box, r.box[0], r.box[1], r.box[2], r.box[3]) : 0.0;
 			if (overlap >= config_.matchIou)
 				pairs_[pairs++] = {static_cast<float>(overlap), static_cast<int>(i), static_cast<int>(k)};
 		}
@@ -285,7 +310,7 @@ void StreamEstimator::trackBox(size_t i, uint64_t frame, ImageView<const float> 
 }
 
 void StreamEstimator::detectBoxes(uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
-				  std::span<const StreamBox> boxes, const EstimatorConfig &config, int64_t deadline,
+				  std::span<const StreamBox> boxes, const EstimatorConfig &config,
 				  std::span<StreamResult> results)
 {
 	size_t wanted = 0;
@@ -294,20 +319,16 @@ void StreamEstimator::detectBoxes(uint64_t frame, ImageView<const float> depth, 
 			order_[wanted++] = static_cast<int>(i);
 	if (wanted == 0)
 		return;
-	// The longest wait first, then the frame's order: an insertion sort,
-	// stable and without the buffer std::stable_sort allocates.
-	const auto waiting = [&](size_t k) { return trackOf_[static_cast<size_t>(order_[k])]->waiting; };
-	for (size_t k = 1; k < wanted; ++k)
-		for (size_t j = k; j > 0 && waiting(j - 1) < waiting(j); --j)
-			std::swap(order_[j - 1], order_[j]);
-	const bool unlimited = deadline == std::numeric_limits<int64_t>::max();
+	// The longest wait first, then the frame's order.
+	sortLargestFirst(order_, wanted, [&](int i) { return trackOf_[static_cast<size_t>(i)]->waiting; });
+	const bool unlimited = frame_.unlimited();
 	size_t run = wanted;
 	float shareMs = 0;
 	if (!unlimited) {
 		size_t due = 0;
 		for (size_t k = 0; k < wanted; ++k)
 			due += trackOf_[static_cast<size_t>(order_[k])]->waiting >= config_.maxDeferFrames - 1;
-		const double leftMs = usableMs(deadline);
+		const double leftMs = usableMs();
 		const size_t fit = leftMs > 0 && config_.detectMinMs > 0
 					   ? static_cast<size_t>(leftMs / static_cast<double>(config_.detectMinMs))
 					   : (leftMs > 0 ? wanted : 0);
@@ -365,10 +386,10 @@ void StreamEstimator::detectBoxes(uint64_t frame, ImageView<const float> depth, 
 }
 
 void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
-				    std::span<const StreamBox> boxes, const EstimatorConfig &config, int64_t deadline,
+				    std::span<const StreamBox> boxes, const EstimatorConfig &config,
 				    std::span<StreamResult> results)
 {
-	if (deadline == std::numeric_limits<int64_t>::max() || !(config_.detectMinMs > 0))
+	if (frame_.unlimited() || !(config_.detectMinMs > 0))
 		return;
 	// Only when no box of the frame still waits for its detection.
 	size_t tracked = 0;
@@ -378,15 +399,12 @@ void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth
 		if (results[i].mode == BoxMode::kTrack)
 			order_[tracked++] = static_cast<int>(i);
 	}
-	const double leftMs = usableMs(deadline);
+	const double leftMs = usableMs();
 	const size_t run = std::min(tracked, static_cast<size_t>(std::max(0.0, leftMs / config_.detectMinMs)));
 	if (run == 0)
 		return;
 	// The track detected longest ago first.
-	const auto age = [&](size_t k) { return frame - trackOf_[static_cast<size_t>(order_[k])]->detectedFrame; };
-	for (size_t k = 1; k < tracked; ++k)
-		for (size_t j = k; j > 0 && age(j - 1) < age(j); --j)
-			std::swap(order_[j - 1], order_[j]);
+	sortLargestFirst(order_, tracked, [&](int i) { return frame - trackOf_[static_cast<size_t>(i)]->detectedFrame; });
 	const int64_t groupStart = clock_.nowNs();
 	detector_.beginFrame(static_cast<int>(run), static_cast<float>(leftMs));
 	for (size_t k = 0; k < run; ++k) {
@@ -408,8 +426,7 @@ void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth
 			r.ns += ns;
 			// The object is where it was tracked: its motion stands too.
 			const Pose velocity = t.velocity;
-			const bool near = (e.pose.t - t.pose.t).norm() < config_.maxStepShare * t.model->params().diameter &&
-					  rotationAngle(e.pose.R, t.pose.R) < config_.maxStepDeg * M_PI / 180.0;
+			const bool near = withinStep(config_, e.pose, t.pose, t.model->params().diameter);
 			place(t, e, frame, false);
 			if (near)
 				t.velocity = velocity;
@@ -422,9 +439,9 @@ void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth
 	observeOvershoot(groupStart, static_cast<float>(leftMs));
 }
 
-double StreamEstimator::usableMs(int64_t deadline) const
+double StreamEstimator::usableMs() const
 {
-	return static_cast<double>(deadline - clock_.nowNs()) * 1e-6 - overshootMs_;
+	return static_cast<double>(frame_.frameDeadline() - clock_.nowNs()) * 1e-6 - overshootMs_;
 }
 
 void StreamEstimator::observeOvershoot(int64_t groupStart, float shareMs)
@@ -454,7 +471,6 @@ void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth
 	// for the detector's own frames.
 	frame_.beginFrame(clock_.nowNs(), budgetMs > 0 ? static_cast<int64_t>(static_cast<double>(budgetMs) * 1e6) : 0,
 			  static_cast<int>(boxes.size()));
-	const int64_t deadline = frame_.unlimited() ? std::numeric_limits<int64_t>::max() : frame_.frameDeadline();
 	++stats_.frames;
 	const size_t n = std::min(boxes.size(), static_cast<size_t>(kMaxBoxes));
 	for (size_t i = 0; i < boxes.size(); ++i) {
@@ -483,9 +499,9 @@ void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth
 		else
 			needsDetection_[i] = true;
 	}
-	detectBoxes(frame, depth, K, held, config, deadline, results);
+	detectBoxes(frame, depth, K, held, config, results);
 	if (config_.refresh)
-		refreshTracks(frame, depth, K, held, config, deadline, results);
+		refreshTracks(frame, depth, K, held, config, results);
 	for (size_t i = 0; i < n; ++i) {
 		if (duplicateOf_[i] < 0)
 			continue;
@@ -499,13 +515,12 @@ void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth
 		stats_.skipped += results[i].mode == BoxMode::kSkipped;
 	endUnmatched();
 	const int64_t end = clock_.nowNs();
-	frame_.endFrame(end);
-	stats_.worstFrameNs = frame_.worstFrameNs();
-	stats_.frameOverruns = frame_.frameOverruns();
 	// The frame's own overshoot too (its tracked boxes ran before its
 	// detections were planned); the reserve fades a frame at a time.
-	if (budgetMs > 0)
-		overshootMs_ = std::max(static_cast<double>(end - deadline) * 1e-6, overshootMs_ * kOvershootDecay);
+	if (!frame_.unlimited())
+		overshootMs_ =
+			std::max(static_cast<double>(end - frame_.frameDeadline()) * 1e-6, overshootMs_ * kOvershootDecay);
+	frame_.endFrame(end);
 }
 
 } // namespace ihf

@@ -76,7 +76,7 @@ struct TrackingStats {
 	StageCounter trackTime;   // tracked boxes
 	StageCounter detectTime;  // detected boxes
 	int maxWait = 0;          // the longest a box waited for its detection
-	uint64_t frameOverruns = 0; // budgeted frames that ended past their budget
+	uint64_t frameOverruns = 0; // budgeted frames that ended past their budget (the frame budget's)
 	int64_t worstFrameNs = 0;
 };
 
@@ -103,7 +103,7 @@ public:
 			   std::span<const StreamBox> boxes, const EstimatorConfig &config, float budgetMs,
 			   std::span<StreamResult> results);
 
-	const TrackingStats &stats() const { return stats_; }
+	TrackingStats stats() const;
 	int activeTracks() const;
 	size_t arenaCapacity() const { return arena_.capacity(); }
 	size_t arenaUsed() const { return arena_.highWater(); }
@@ -117,15 +117,13 @@ private:
 	void trackBox(size_t i, uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
 		      std::span<const StreamBox> boxes, const EstimatorConfig &config, std::span<StreamResult> results);
 	void detectBoxes(uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
-			 std::span<const StreamBox> boxes, const EstimatorConfig &config, int64_t deadline,
-			 std::span<StreamResult> results);
+			 std::span<const StreamBox> boxes, const EstimatorConfig &config, std::span<StreamResult> results);
 	void refreshTracks(uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
-			   std::span<const StreamBox> boxes, const EstimatorConfig &config, int64_t deadline,
-			   std::span<StreamResult> results);
+			   std::span<const StreamBox> boxes, const EstimatorConfig &config, std::span<StreamResult> results);
 	void place(Track &t, const PoseEstimate &e, uint64_t frame, bool fromTrack);
 	// The frame's time left for detections, less what detections have run
 	// past their share lately.
-	double usableMs(int64_t deadline) const;
+	double usableMs() const;
 	void observeOvershoot(int64_t groupStart, float shareMs);
 
 	// A detection runs a little past its share (its registration is never
@@ -157,6 +155,13 @@ private:
 		int track;
 	};
 	std::array<Pair, kMaxBoxes * kMaxTracks> pairs_{};
+	// Per frame: each track's region in the image, x0, y0, x1, y1 (its
+	// predicted silhouette's box, or its last box while it waits).
+	struct Region {
+		bool valid = false;
+		double box[4] = {0, 0, 0, 0};
+	};
+	std::array<Region, kMaxTracks> regions_{};
 	TrackingStats stats_;
 };
 

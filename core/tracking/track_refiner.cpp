@@ -83,7 +83,7 @@ TrackRefinement TrackRefiner::refine(ImageView<const float> depth, const CameraI
 	const CameraIntrinsics &vk = crop.intrinsics;
 	const ImageView<float> observed(observed_.data(), vk.width, vk.height, vk.width);
 	const ImageView<float> render(render_.data(), vk.width, vk.height, vk.width);
-	const OpenSides open{box.x <= 0, box.y <= 0, box.x + box.w >= depth.width, box.y + box.h >= depth.height};
+	const OpenSides open = openSidesOf(box.x, box.y, box.w, box.h, depth.width, depth.height);
 	const ScoreWindow scoreWindow{observed, vk, open, &config.score};
 	const Eigen::Matrix3d Rv = crop.rotation;
 	const Pose start{Rv.transpose() * predicted.R, Rv.transpose() * predicted.t};
@@ -102,9 +102,7 @@ TrackRefinement TrackRefiner::refine(ImageView<const float> depth, const CameraI
 	// least as well; else the prediction itself stands, if it still holds
 	// (an object at rest whose ICP slides off a poor fit keeps its pose, and
 	// costs no detection).
-	const bool jumped = polished.valid &&
-			    ((polished.pose.t - start.t).norm() > tracking.maxStepShare * params.diameter ||
-			     rotationAngle(polished.pose.R, start.R) > tracking.maxStepDeg * M_PI / 180.0);
+	const bool jumped = polished.valid && !withinStep(tracking, polished.pose, start, params.diameter);
 	const bool takePolish = polished.valid && !jumped && polished.score.score >= predictedScore.score;
 	const Pose chosen = takePolish ? polished.pose : start;
 	const HypothesisScore &s = takePolish ? polished.score : predictedScore;
@@ -124,11 +122,10 @@ TrackRefinement TrackRefiner::refine(ImageView<const float> depth, const CameraI
 	if (tracking.rivals && !params.symmetric) {
 		const Eigen::Vector3d centre = boundingBox(model.mesh()).centre().cast<double>();
 		float rival = 0;
-		for (int axis = 0; axis < 3; ++axis) {
-			const Eigen::Matrix3d turn =
-				Eigen::DiagonalMatrix<double, 3>(axis == 0 ? 1 : -1, axis == 1 ? 1 : -1, axis == 2 ? 1 : -1)
-					.toDenseMatrix();
-			const Pose turned = turnedAbout(chosen, turn, centre);
+		HalfTurnConfig boxAxesOnly;
+		boxAxesOnly.axes = 0;
+		for (int axis = 0; axis < halfTurnCount(boxAxesOnly); ++axis) {
+			const Pose turned = turnedAbout(chosen, halfTurnOf(boxAxesOnly, axis), centre);
 			rival = std::max(rival, scoreInWindow(scoreWindow, renderer_, render, model, turned).score);
 		}
 		margin = std::max(0.0f, s.score - rival);

@@ -7,7 +7,10 @@
 // score, its place in the box and its lead over the turned rivals say it
 // still sits on the object, and detected afresh otherwise.
 
+#include <cmath>
+
 #include "core/estimation/icp_refiner.h"
+#include "core/geometry/pose.h"
 
 namespace ihf {
 
@@ -56,5 +59,13 @@ struct TrackerConfig {
 	bool rivals = true;
 	float rivalMargin = 0.02f;
 };
+
+// Whether two poses of an object of this diameter lie within the step a
+// tracked polish may take (maxStepShare, maxStepDeg).
+inline bool withinStep(const TrackerConfig &c, const Pose &a, const Pose &b, double diameter)
+{
+	return (a.t - b.t).norm() <= c.maxStepShare * diameter &&
+	       rotationAngle(a.R, b.R) <= c.maxStepDeg * M_PI / 180.0;
+}
 
 } // namespace ihf
