@@ -116,8 +116,9 @@ TEST_F(SequenceCli, WritesBopScenesWithEveryVisibleTarget)
 				for (const Detection &b : *boxes)
 					n += b.sceneId == sceneId && b.imageId == id && b.categoryId == gts[k].objId;
 				EXPECT_LE(n, 1);
-				if (info.visibFract < 0.1)
+				if (info.visibFract < 0.1) {
 					EXPECT_EQ(n, 0);
+				}
 			}
 		}
 		EXPECT_GT(listed, 12);
