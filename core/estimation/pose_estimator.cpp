@@ -147,12 +147,12 @@ size_t PoseEstimator::arenaBytes(const EstimatorLimits &limits)
 }
 
 PoseEstimator::PoseEstimator(const EstimatorLimits &limits, const Clock *clock, int)
-	: limits_(limits), timer_(clock ? *clock : steadyClock_)
+	: limits_(limits), planner_(clock)
 {
 }
 
 PoseEstimator::PoseEstimator(const EstimatorLimits &limits, const Clock *clock)
-	: limits_(limits), workers_(limits.threads), timer_(clock ? *clock : steadyClock_)
+	: limits_(limits), workers_(limits.threads), planner_(clock)
 {
 	auto arena = Arena::create(arenaBytes(limits));
 	if (!arena)
@@ -169,33 +169,29 @@ PoseEstimator::PoseEstimator(const EstimatorLimits &limits, const Clock *clock)
 
 void PoseEstimator::beginFrame(int boxes, float budgetMs)
 {
-	budget_.beginFrame(timer_.clock().nowNs(), static_cast<int64_t>(budgetMs * 1e6), boxes);
+	planner_.beginFrame(boxes, budgetMs);
 }
 
 void PoseEstimator::endFrame()
 {
 	// The frame ends with its last box's last stage.
-	budget_.endFrame(timer_.last());
+	planner_.endFrame(timer_.last());
 }
 
 PoseEstimator::BoxScope::BoxScope(PoseEstimator &e, const EstimatorConfig &config)
-	: e_(e), scratch_(e.arena_), ownFrame_(!e.budget_.inFrame())
+	: e_(e), scratch_(e.arena_), ownFrame_(!e.planner_.inFrame())
 {
 	if (ownFrame_)
 		e_.beginFrame(1, config.frameBudgetMs);
-	e_.boxStartNs_ = e_.timer_.start();
-	e_.registrationNs_ = 0; // until this box's registration ends
-	e_.budget_.beginBox(e_.boxStartNs_);
-	e_.boxCut_ = false;
+	e_.planner_.beginBox();
 }
 
 PoseEstimator::BoxScope::~BoxScope()
 {
 	// The box ends with its last stage (what follows it is bookkeeping).
-	const int64_t now = e_.timer_.last();
-	e_.budget_.endBox(now);
+	const int64_t now = e_.planner_.endBox();
 	if (ownFrame_)
-		e_.budget_.endFrame(now);
+		e_.planner_.endFrame(now);
 	e_.releaseBox();
 }
 
@@ -208,47 +204,26 @@ void PoseEstimator::releaseBox()
 	unit_ = normals_ = {};
 }
 
-// One vote pass, predicted from the refinement iterations and the initial
-// registrations seen so far (a registration of several slabs is observed as
-// one: an over-estimate, which keeps the budget safe).
-int64_t PoseEstimator::passCost(double margin) const
-{
-	return costs_.predict({Stage::kCloud, Stage::kNormalise, Stage::kIbsFit, Stage::kParts, Stage::kHocp,
-			       Stage::kForest, Stage::kModes, Stage::kScore},
-			      margin);
-}
-
-bool PoseEstimator::refinementFits(const EstimatorConfig &config)
-{
-	// Keep room for what runs after the last iteration: the view searches,
-	// the polish and the re-search. A pass taking their time costs more
-	// than it gains (session 35, max_iterations -1, syn200: 10 ms, the ape
-	// 0.370 with room for one polish round only, 0.895 with the searches';
-	// 50 ms, four objects, 0.914 with those, 0.922 with all, 0.920 without
-	// iterations).
-	return boxFits(passCost(config.budgetMargin) +
-		       plannedSearches_ * searchCosts().bound(Stage::kViews, config.budgetMargin) +
-		       plannedPolishRounds_ * costs_.bound(Stage::kIcp, config.budgetMargin, boxWork_));
-}
-
-// What the box runs after its vote passes, for refinementFits(): the
-// searches at the voted centres and the dense slabs (not the thinner slabs
-// the search may add), the polish rounds, and the re-search with its rounds.
+// What the box runs after its vote passes, for the planner's passFits():
+// the searches at the voted centres and the dense slabs (not the thinner
+// slabs the search may add), the polish rounds, and the re-search with its
+// rounds.
 void PoseEstimator::planAfterPasses(const EstimatorConfig &config, int requestedIterations,
 				    const ObjectModel &model)
 {
 	const bool views = viewSearchSize(model.viewTemplates(), config.views) > 0;
 	const bool research = researchRounds(config, requestedIterations, model) > 0;
-	plannedSearches_ = 0;
+	int searches = 0;
 	if (views)
-		plannedSearches_ = votedCentres(config) +
-				   static_cast<int>(std::min(windowCount_, static_cast<size_t>(std::max(
-										   0, config.views.depthCentres)))) +
-				   research;
-	plannedPolishRounds_ = 0;
+		searches = votedCentres(config) +
+			   static_cast<int>(std::min(windowCount_, static_cast<size_t>(std::max(
+									   0, config.views.depthCentres)))) +
+			   research;
+	int rounds = 0;
 	if (config.icp)
-		plannedPolishRounds_ = std::max(1, polishRounds(static_cast<size_t>(std::max(0, config.icpCandidates)))) +
-				       (research ? polishRounds(researchPolished(config)) : 0);
+		rounds = std::max(1, polishRounds(static_cast<size_t>(std::max(0, config.icpCandidates)))) +
+			 (research ? polishRounds(researchPolished(config)) : 0);
+	planner_.plan(searches, rounds);
 }
 
 int PoseEstimator::polishRounds(size_t polishes) const
@@ -257,51 +232,27 @@ int PoseEstimator::polishRounds(size_t polishes) const
 	return static_cast<int>((polishes + threads - 1) / threads);
 }
 
-// Whether a refinement iteration or candidate search still fits; a box is
-// counted as cut short once, whichever stage the budget refused.
-bool PoseEstimator::boxFits(int64_t predictedNs)
-{
-	if (budget_.fits(timer_.now(), predictedNs))
-		return true;
-	if (!boxCut_)
-		++budgetStops_;
-	boxCut_ = true;
-	return false;
-}
-
-bool PoseEstimator::icpFits(double margin)
-{
-	return fitsBudget(costs_.bound(Stage::kIcp, margin, boxWork_), icpSkipped_);
-}
-
-// Whether predictedNs more still fits the frame and box; counts a refusal.
-bool PoseEstimator::fitsBudget(int64_t predictedNs, uint64_t &refusals)
-{
-	if (budget_.fits(timer_.now(), predictedNs))
-		return true;
-	++refusals;
-	return false;
-}
-
 EstimatorStats PoseEstimator::stats() const
 {
 	EstimatorStats s;
+	const BudgetCounters &c = planner_.counters();
+	const FrameBudget &frame = planner_.frame();
 	s.stages = timer_.counters();
-	s.frames = budget_.frames();
-	s.boxes = budget_.boxes();
-	s.iterations = iterationsRun_;
-	s.budgetStops = budgetStops_;
-	s.icpSkipped = icpSkipped_;
+	s.frames = frame.frames();
+	s.boxes = frame.boxes();
+	s.iterations = c.iterations;
+	s.budgetStops = c.budgetStops;
+	s.icpSkipped = c.icpSkipped;
 	s.researches = researches_;
 	s.researchWins = researchWins_;
-	s.researchesSkipped = researchesSkipped_;
-	s.registrationOverruns = registrationOverruns_;
-	s.tightBoxes = tightBoxes_;
-	s.shortBoxes = shortBoxes_;
-	s.leanSearchBoxes = leanSearchBoxes_;
-	s.frameOverruns = budget_.frameOverruns();
-	s.boxOverruns = budget_.boxOverruns();
-	s.worstFrameNs = budget_.worstFrameNs();
+	s.researchesSkipped = c.researchesSkipped;
+	s.registrationOverruns = c.registrationOverruns;
+	s.tightBoxes = c.tightBoxes;
+	s.shortBoxes = c.shortBoxes;
+	s.leanSearchBoxes = c.leanSearchBoxes;
+	s.frameOverruns = frame.frameOverruns();
+	s.boxOverruns = frame.boxOverruns();
+	s.worstFrameNs = frame.worstFrameNs();
 	s.arenaCapacity = arena_.capacity();
 	s.arenaPersistent = persistentBytes_;
 	s.arenaHighWater = arena_.highWater();
@@ -374,7 +325,7 @@ void PoseEstimator::searchRotationBank(const CameraIntrinsics &K, const ObjectMo
 	const int keepN = std::clamp(config.bank.keep, 1, kMaxKeep);
 	const float same = static_cast<float>(0.05 * diameter);
 	for (int c = 0; c < nc; ++c) {
-		if (!boxFits(costs_.bound(Stage::kBank, config.budgetMargin)))
+		if (!planner_.stageFits(Stage::kBank, config.budgetMargin, false))
 			return;
 		const int64_t start = timer_.last();
 		Hypothesis top[kMaxKeep];
@@ -392,7 +343,7 @@ void PoseEstimator::searchRotationBank(const CameraIntrinsics &K, const ObjectMo
 			report(top[j].iteration, "bank", j, top[j].pose, top[j].score, 0);
 			keep(top[j], same);
 		}
-		costs_.observe(Stage::kBank, timer_.lap(Stage::kBank) - start);
+		planner_.observeStage(Stage::kBank, start, false);
 	}
 }
 
@@ -455,14 +406,6 @@ ViewSearchConfig viewScoring(const EstimatorConfig &config)
 
 } // namespace
 
-int64_t PoseEstimator::searchPrediction(const EstimatorConfig &config, int polishRounds)
-{
-	int64_t predicted = searchCosts().bound(Stage::kViews, config.budgetMargin);
-	if (config.icp)
-		predicted += polishRounds * costs_.bound(Stage::kIcp, config.budgetMargin, boxWork_);
-	return predicted;
-}
-
 // A side on the frame border was clipped: that axis' centre is not the
 // object's, and the model may go on past that side unseen.
 BoxAxes PoseEstimator::boxAxes() const
@@ -507,7 +450,6 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	const int nc = keptCentres(diameter, votedCentres(config), centres);
 	const size_t keepN = viewKeep(config);
 	const float same = static_cast<float>(0.05 * diameter);
-	StageCostModel &searchCosts = this->searchCosts();
 	// One search; its proposals are kept.
 	auto searchAt = [&](const Eigen::Vector3d &centre, float anchor, const char *stage) {
 		const int64_t start = timer_.last();
@@ -516,7 +458,7 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 					      std::span<Hypothesis>(found, keepN));
 		for (size_t j = 0; j < n; ++j)
 			keep(found[j], same);
-		searchCosts.observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
+		planner_.observeSearch(start);
 	};
 	// Under a budget every search but the first leaves room for the polish
 	// after it (unbudgeted, everything fits). A box with no room for even
@@ -526,9 +468,10 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	int searched = 0;
 	auto searchFits = [&]() {
 		const bool first = searched++ == 0;
-		const bool fits = boxFits(searchPrediction(config, first ? 0 : config.views.budgetPolishRounds));
+		const bool fits =
+			planner_.searchFits(config.budgetMargin, config.icp && !first ? config.views.budgetPolishRounds : 0);
 		if (!fits && first)
-			searchCosts.refused(Stage::kViews);
+			planner_.searchRefused();
 		return fits;
 	};
 	// Centres from the box and the depth alone: on the box's ray (the
@@ -603,17 +546,15 @@ PoseEstimator::Hypothesis PoseEstimator::researchAtBest(const CameraIntrinsics &
 	Hypothesis winner = best;
 	for (rounds = 0; rounds < maxRounds;) {
 		// The search and its polish rounds must fit.
-		if (!boxFits(searchPrediction(config, polishRounds(polishN)))) {
-			++researchesSkipped_;
+		if (!planner_.researchFits(config.budgetMargin, config.icp ? polishRounds(polishN) : 0))
 			break;
-		}
 		++rounds;
 		++researches_;
 		const int64_t start = timer_.last();
 		Hypothesis found[kMaxViewKeep];
 		const size_t n = searchScored(K, model, config, winner.pose.t, 0.0f, "research",
 					      std::span<Hypothesis>(found, keepN));
-		searchCosts().observe(Stage::kViews, timer_.lap(Stage::kViews) - start);
+		planner_.observeSearch(start);
 		// Every proposal competes; those that are not the best itself,
 		// best first (as the search returns them), are polished in rounds
 		// of the pool's threads.
@@ -633,7 +574,7 @@ PoseEstimator::Hypothesis PoseEstimator::researchAtBest(const CameraIntrinsics &
 				const size_t c = c0 + static_cast<size_t>(i);
 				polished[c] = polishOn(fresh[c], K, model, config, Stage::kIcp, slot, config.icpConfig);
 			});
-			costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart, boxWork_);
+			planner_.observePolish(icpStart);
 			for (size_t c = c0; c < c0 + k; ++c) {
 				if (!polished[c].valid)
 					continue;
@@ -787,12 +728,12 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 	const bool screening = cfg.screen > 0 && !cfg.inlierPivot && !templates.empty();
 	Hypothesis found = best;
 	for (int c = 0; c < ns; ++c) {
-		if (!boxFits(costs_.bound(Stage::kHalfTurns, config.budgetMargin, boxWork_)))
+		if (!planner_.stageFits(Stage::kHalfTurns, config.budgetMargin, true))
 			break;
 		const int64_t start = timer_.last();
 		if (screening) {
 			screenHalfTurns(K, model, config, sources[c], centre, keepN, c * keepN, found);
-			costs_.observe(Stage::kHalfTurns, timer_.lap(Stage::kHalfTurns) - start, boxWork_);
+			planner_.observeStage(Stage::kHalfTurns, start, true);
 			continue;
 		}
 		const std::optional<Eigen::Vector3d> shown = cfg.align ? shownCentroid(sources[c].pose, K, model)
@@ -839,7 +780,7 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 					insertTop(turns[k], top, nt, keepN);
 		}
 		polishTurns(std::span<const Hypothesis>(top, static_cast<size_t>(nt)), K, model, config, c * keepN, found);
-		costs_.observe(Stage::kHalfTurns, timer_.lap(Stage::kHalfTurns) - start, boxWork_);
+		planner_.observeStage(Stage::kHalfTurns, start, true);
 	}
 	return found;
 }
@@ -1270,15 +1211,13 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 	observer_ = observer;
 
 	WarmUpCost cost;
-	cost.registrationMs = static_cast<double>(registrationNs_) * 1e-6;
-	cost.boxMs = static_cast<double>(budget_.worstFrameNs()) * 1e-6;
+	cost.registrationMs = static_cast<double>(planner_.registrationNs()) * 1e-6;
+	cost.boxMs = static_cast<double>(planner_.frame().worstFrameNs()) * 1e-6;
 	cost.tight = share.tight;
 	cost.parts = e.parts;
 
-	timer_.reset();
-	budget_ = FrameBudget{};
-	iterationsRun_ = budgetStops_ = icpSkipped_ = registrationOverruns_ = tightBoxes_ = shortBoxes_ =
-		leanSearchBoxes_ = researches_ = researchWins_ = researchesSkipped_ = 0;
+	planner_.forgetCounts();
+	researches_ = researchWins_ = 0;
 	peaks_ = {};
 	if (!e.found)
 		return makeError(Errc::kNoPose, std::string("warm-up box gave no pose: ") + e.reason);
@@ -1371,28 +1310,15 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	PoseEstimate out;
 	BoxScope scope(*this, requested);
 	EstimatorConfig budgeted;
-	leanSearch_ = false;
-	if (!budget_.unlimited()) {
-		const double shareMs = static_cast<double>(budget_.boxDeadline() - boxStartNs_) * 1e-6;
-		const ShareSettings share = underShare(requested, shareMs);
+	if (!planner_.unlimited()) {
+		const ShareSettings share = underShare(requested, planner_.shareMs());
 		budgeted = share.config;
-		tightBoxes_ += share.tight;
-		shortBoxes_ += share.shortRounds;
-		// In the budget's searches as this machine has run them (none yet,
-		// as in the warm-up: the budget's search).
-		const double searchMs = static_cast<double>(costs_.average(Stage::kViews)) * 1e-6;
-		leanSearch_ = shareMs < static_cast<double>(requested.views.leanSearchBelow) * searchMs;
-		if (leanSearch_) {
+		planner_.counters().tightBoxes += share.tight;
+		planner_.counters().shortBoxes += share.shortRounds;
+		if (planner_.chooseLeanSearch(static_cast<double>(requested.views.leanSearchBelow)))
 			budgeted.views = underLeanBudget(requested.views);
-			// The budget's search is not measured in a lean box: its
-			// cost eases as a refused stage's does, so that one cost
-			// measured too high (the warm-up's large box) does not
-			// keep every later box lean.
-			costs_.refused(Stage::kViews);
-		}
-		leanSearchBoxes_ += leanSearch_;
 	}
-	const EstimatorConfig &config = budget_.unlimited() ? requested : budgeted;
+	const EstimatorConfig &config = planner_.unlimited() ? requested : budgeted;
 	if (!valid_) {
 		out.reason = "estimator has no memory (arena allocation failed)";
 		return out;
@@ -1422,7 +1348,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		return out;
 	}
 	const CameraIntrinsics &vk = crop->intrinsics;
-	boxWork_ = config.budgetScaleByBox ? std::max(1, crop->validPixels) : 1;
+	planner_.setBoxWork(config.budgetScaleByBox ? std::max(1, crop->validPixels) : 1);
 	openSides_ = openSidesOf(box.x, box.y, box.w, box.h, depth.width, depth.height);
 	const int w = vk.width, h = vk.height;
 	peaks_.windowPixels = std::max(peaks_.windowPixels, w * h);
@@ -1466,7 +1392,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	// Refinement iterations vote leaner (the iteration* bounds).
 	const EstimatorConfig iterationCfg = forIterations(config);
 	for (int k = 0; k <= config.iterations; ++k) {
-		if (k > 0 && !refinementFits(config)) {
+		if (k > 0 && !planner_.passFits(config.budgetMargin)) {
 			out.budgetStopped = true;
 			break;
 		}
@@ -1481,7 +1407,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 			// The first slab always runs (every box gets a pose); a
 			// further one only if a pass still fits, with room for the
 			// searches and the polish after it (as for an iteration).
-			if (pass > 0 && !refinementFits(config)) {
+			if (pass > 0 && !planner_.passFits(config.budgetMargin)) {
 				out.budgetStopped = true;
 				break;
 			}
@@ -1512,15 +1438,9 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		}
 		// The initial registration's passes are observed together: an
 		// over-estimate of one refinement, which keeps the budget safe.
-		costs_.observe(iterationStart, timer_.totals());
-		iterationsRun_ += k > 0;
-		// The registration's end is the last lap's time: a new clock read
-		// would move a step clock.
-		if (k == 0) {
-			registrationNs_ = timer_.last() - boxStartNs_;
-			if (!budget_.unlimited() && timer_.last() > budget_.boxDeadline())
-				++registrationOverruns_;
-		}
+		planner_.observePass(iterationStart, k > 0);
+		if (k == 0)
+			planner_.endRegistration();
 		if (!iterBest.valid)
 			break;
 		out.iterationsDone = k;
@@ -1541,7 +1461,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		searchRotationBank(vk, model, config);
 	if (viewSearchSize(model.viewTemplates(), config.views) > 0)
 		searchViewTemplates(vk, model, config);
-	out.budgetStopped = boxCut_;
+	out.budgetStopped = planner_.boxCut();
 	Hypothesis best = kept_[0];
 
 	// Polish the best distinct hypotheses: a local search of the score, then
@@ -1559,7 +1479,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	const size_t round = static_cast<size_t>(workers_.threads());
 	Hypothesis searched[kMaxPolished], icped[kMaxPolished];
 	for (size_t c0 = 0; c0 < polishCount; c0 += round) {
-		if (!icpFits(config.budgetMargin)) {
+		if (!planner_.polishFits(config.budgetMargin)) {
 			out.icpSkipped = true;
 			break;
 		}
@@ -1605,7 +1525,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		polishedCount = c0 + n;
 		// The cost model sees the whole round (its clouds are counted
 		// under the cloud stage on one thread, under ICP on more).
-		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart, boxWork_);
+		planner_.observePolish(icpStart);
 	}
 	// Refinement's re-search.
 	const int research = researchRounds(config, requested.iterations, model);
@@ -1615,7 +1535,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 			best = refined;
 			out.icpApplied = true;
 		}
-		out.budgetStopped = out.budgetStopped || boxCut_;
+		out.budgetStopped = out.budgetStopped || planner_.boxCut();
 	}
 	// The model's box centre: the half-turns' pivot, and what a symmetric
 	// object's rivals are compared by.
@@ -1629,13 +1549,13 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 			out.icpApplied = true;
 		}
 	}
-	if (config.icp && config.finalIcpIterations > 0 && polishCount > 0 && icpFits(config.budgetMargin)) {
+	if (config.icp && config.finalIcpIterations > 0 && polishCount > 0 && planner_.polishFits(config.budgetMargin)) {
 		IcpConfig last = config.icpConfig;
 		last.iterations = config.finalIcpIterations;
 		last.maxDistanceMm = last.minDistanceMm;
 		const int64_t icpStart = timer_.last();
 		const Hypothesis converged = polishOn(best, vk, model, config, Stage::kIcp, 0, last);
-		costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - icpStart, boxWork_);
+		planner_.observePolish(icpStart);
 		if (converged.valid) {
 			report(converged.iteration, "icp_final", 0, converged.pose, converged.score, 0);
 			if (converged.score.score >= best.score.score) {

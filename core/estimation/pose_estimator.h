@@ -36,6 +36,7 @@
 
 #include "core/common/expected.h"
 #include "core/common/image.h"
+#include "core/estimation/budget_planner.h"
 #include "core/estimation/depth_windows.h"
 #include "core/estimation/estimator_stats.h"
 #include "core/estimation/hypothesis_score.h"
@@ -55,9 +56,6 @@
 #include "core/pose/vote_modes.h"
 #include "core/render/depth_renderer.h"
 #include "core/runtime/arena.h"
-#include "core/runtime/clock.h"
-#include "core/runtime/frame_budget.h"
-#include "core/runtime/stage_timer.h"
 
 namespace ihf {
 
@@ -437,11 +435,6 @@ private:
 	// is better. Each round must fit the budget.
 	Hypothesis researchAtBest(const CameraIntrinsics &K, const ObjectModel &model, const EstimatorConfig &config,
 				  const Hypothesis &best, int maxRounds, int &rounds);
-	// A lean box's searches are measured apart (leanCosts_).
-	StageCostModel &searchCosts() { return leanSearch_ ? leanCosts_ : costs_; }
-	// The predicted cost of a view search and polishRounds ICP rounds
-	// after it (none without ICP).
-	int64_t searchPrediction(const EstimatorConfig &config, int polishRounds);
 	// Half-turns of the best distinct polished hypotheses (half_turns.h)
 	// about the model's box centre; returns the best found, or `best` when
 	// none scores higher.
@@ -523,14 +516,10 @@ private:
 	template<typename A>
 	bool carveBox(A &arena, size_t pixels);
 	void releaseBox();
-	int64_t passCost(double margin) const;
+	// Tells the planner what the box runs after its vote passes.
 	void planAfterPasses(const EstimatorConfig &config, int requestedIterations, const ObjectModel &model);
 	// Rounds of the pool's threads that polish this many hypotheses.
 	int polishRounds(size_t polishes) const;
-	bool refinementFits(const EstimatorConfig &config);
-	bool icpFits(double margin);
-	bool fitsBudget(int64_t predictedNs, uint64_t &refusals);
-	bool boxFits(int64_t predictedNs);
 
 	EstimatorLimits limits_;
 	Arena arena_;
@@ -544,24 +533,11 @@ private:
 	std::array<DepthRenderer, WorkerPool::kMaxThreads - 1> moreRenderers_;
 	std::array<ImageView<float>, WorkerPool::kMaxThreads - 1> moreRenderViews_;
 
-	SteadyClock steadyClock_;
-	StageTimer timer_;
-	StageCostModel costs_;
-	// The lean searches of short shares, measured apart: costs_ keeps the
-	// budget's own search, the unit a share is counted in.
-	StageCostModel leanCosts_;
-	bool leanSearch_ = false; // the current box searches with the lean settings
-	// The box's valid depth pixels: the polish and the half-turns (renders,
-	// ICP on the crop) cost in proportion, so their predictions scale with
-	// it; the warm-up's box is the largest one.
-	double boxWork_ = 1.0;
-	FrameBudget budget_;
-	uint64_t iterationsRun_ = 0, budgetStops_ = 0, icpSkipped_ = 0, registrationOverruns_ = 0, tightBoxes_ = 0,
-		 shortBoxes_ = 0, leanSearchBoxes_ = 0, researches_ = 0, researchWins_ = 0, researchesSkipped_ = 0;
-	// The current box's start and its initial registration's length (box
-	// start to the end of the k = 0 pass), as the budget sees them.
-	int64_t boxStartNs_ = 0, registrationNs_ = 0;
-	bool boxCut_ = false; // the budget refused a stage of the current box
+	// Clock, stage timer, frame budget, cost models and the box's plan:
+	// asked before every stage that can be cut.
+	BudgetPlanner planner_;
+	StageTimer &timer_ = planner_.timer(); // each stage laps it
+	uint64_t researches_ = 0, researchWins_ = 0;
 	EstimatorPeaks peaks_;
 
 	// Persistent (sized from the limits).
@@ -581,9 +557,6 @@ private:
 	std::span<int> windowHist_;
 	std::span<DepthWindow> windows_;
 	size_t windowCount_ = 0; // of the current box
-	// What the current box runs after its vote passes: view searches, polish rounds.
-	int plannedSearches_ = 0;
-	int plannedPolishRounds_ = 0;
 	std::span<DepthWindow> anchorWindows_; // the view search's own, when thinner
 	std::span<ViewCoarseCandidate> viewHeaps_; // the view search's, per thread
 	std::span<ViewFineResult> viewFine_;

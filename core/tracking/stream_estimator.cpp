@@ -107,7 +107,7 @@ const char *boxModeName(BoxMode mode)
 }
 
 StreamEstimator::StreamEstimator(PoseEstimator &detector, const TrackerConfig &config, const Clock *clock)
-	: detector_(detector), config_(config), clock_(clock ? *clock : steadyClock_)
+	: detector_(detector), config_(config), clock_(clock ? *clock : steadyClock_), frame_(&clock_)
 {
 	const int window = std::max(1, config_.windowPixels > 0 ? config_.windowPixels
 							      : detector.limits().maxWindowPixels);
@@ -130,8 +130,8 @@ void StreamEstimator::reset()
 TrackingStats StreamEstimator::stats() const
 {
 	TrackingStats s = stats_;
-	s.frameOverruns = frame_.frameOverruns();
-	s.worstFrameNs = frame_.worstFrameNs();
+	s.frameOverruns = frame_.frame().frameOverruns();
+	s.worstFrameNs = frame_.frame().worstFrameNs();
 	return s;
 }
 
@@ -156,10 +156,12 @@ Track *StreamEstimator::newTrack(const StreamBox &box, uint64_t frame)
 			continue;
 		t = Track{};
 		t.state = TrackState::kPending;
-		if (box.trackId > 0) {
+		if (box.trackId > 0 && !trackById(box.trackId)) {
 			t.id = box.trackId;
 		} else {
-			// Our own ids skip any a detector's track holds.
+			// Our own ids skip any a detector's track holds. A detector's
+			// id that a track already holds (another object's, or given
+			// to two boxes) is not taken twice: the box gets its own.
 			while (trackById(nextId_))
 				++nextId_;
 			t.id = nextId_++;
@@ -186,8 +188,11 @@ void StreamEstimator::matchBoxes(std::span<const StreamBox> boxes, const CameraI
 	for (size_t i = 0; i < n; ++i) {
 		trackOf_[i] = nullptr;
 		duplicateOf_[i] = -1;
+		byOverlap_[i] = boxes[i].trackId <= 0;
 	}
-	// The detector's own track ids first.
+	// The detector's own track ids first. An id held by another object's
+	// track, or claimed by an earlier box of the frame, is not the box's:
+	// it is matched by overlap instead.
 	for (size_t i = 0; i < n; ++i) {
 		const StreamBox &b = boxes[i];
 		if (!b.model || b.trackId <= 0)
@@ -196,6 +201,8 @@ void StreamEstimator::matchBoxes(std::span<const StreamBox> boxes, const CameraI
 		if (t && t->objId == b.objId && !t->matched) {
 			trackOf_[i] = t;
 			t->matched = true;
+		} else if (t) {
+			byOverlap_[i] = true;
 		}
 	}
 	// Then by the overlap of each box with each track's predicted
@@ -216,7 +223,7 @@ void StreamEstimator::matchBoxes(std::span<const StreamBox> boxes, const CameraI
 	}
 	size_t pairs = 0;
 	for (size_t i = 0; i < n; ++i) {
-		if (!boxes[i].model || trackOf_[i] || boxes[i].trackId > 0)
+		if (!boxes[i].model || trackOf_[i] || !byOverlap_[i])
 			continue;
 		for (size_t k = 0; k < tracks_.size(); ++k) {
 			const Track &t = tracks_[k];
@@ -441,7 +448,7 @@ void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth
 
 double StreamEstimator::usableMs() const
 {
-	return static_cast<double>(frame_.frameDeadline() - clock_.nowNs()) * 1e-6 - overshootMs_;
+	return frame_.frameLeftMs() - overshootMs_;
 }
 
 void StreamEstimator::observeOvershoot(int64_t groupStart, float shareMs)
@@ -467,10 +474,9 @@ void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth
 				    std::span<const StreamBox> boxes, const EstimatorConfig &config, float budgetMs,
 				    std::span<StreamResult> results)
 {
-	// The frame's deadline and its overrun count are the frame budget's, as
-	// for the detector's own frames.
-	frame_.beginFrame(clock_.nowNs(), budgetMs > 0 ? static_cast<int64_t>(static_cast<double>(budgetMs) * 1e6) : 0,
-			  static_cast<int>(boxes.size()));
+	// The frame's deadline and its overrun count are the budget planner's,
+	// as for the detector's own frames.
+	frame_.beginFrame(static_cast<int>(boxes.size()), budgetMs);
 	++stats_.frames;
 	const size_t n = std::min(boxes.size(), static_cast<size_t>(kMaxBoxes));
 	for (size_t i = 0; i < boxes.size(); ++i) {
@@ -519,7 +525,7 @@ void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth
 	// detections were planned); the reserve fades a frame at a time.
 	if (!frame_.unlimited())
 		overshootMs_ =
-			std::max(static_cast<double>(end - frame_.frameDeadline()) * 1e-6, overshootMs_ * kOvershootDecay);
+			std::max(static_cast<double>(end - frame_.frame().frameDeadline()) * 1e-6, overshootMs_ * kOvershootDecay);
 	frame_.endFrame(end);
 }
 

@@ -23,7 +23,6 @@
 #include "core/estimation/pose_estimator.h"
 #include "core/runtime/arena.h"
 #include "core/runtime/clock.h"
-#include "core/runtime/frame_budget.h"
 #include "core/tracking/track.h"
 #include "core/tracking/track_refiner.h"
 #include "core/tracking/tracker_config.h"
@@ -140,7 +139,7 @@ private:
 	const Clock &clock_;
 	Arena arena_;
 	TrackRefiner refiner_;
-	FrameBudget frame_; // the whole frame's: tracked boxes and detections
+	BudgetPlanner frame_; // the whole frame's: tracked boxes and detections
 	bool valid_ = false;
 	int nextId_ = 1;
 	std::array<Track, kMaxTracks> tracks_{};
@@ -149,6 +148,7 @@ private:
 	std::array<bool, kMaxBoxes> needsDetection_{};
 	std::array<int, kMaxBoxes> order_{};
 	std::array<int, kMaxBoxes> duplicateOf_{}; // the box a duplicate repeats, -1: none
+	std::array<bool, kMaxBoxes> byOverlap_{};  // matched by overlap: no detector id, or one not its own
 	struct Pair {
 		float iou;
 		int box;

@@ -199,6 +199,40 @@ TEST_F(StreamEstimatorTest, TheDetectorsTrackIdWinsOverOverlap)
 	EXPECT_EQ(r[1].trackId, 7);
 }
 
+TEST_F(StreamEstimatorTest, ATrackIdHeldByAnotherTrackIsNotGivenTwice)
+{
+	PoseEstimator detector;
+	StreamEstimator stream(detector, TrackerConfig{});
+	const Pose a = test::viewAt(*model_, 37, {-120, -20, 800}), b = test::viewAt(*model_, 12, {110, 30, 800});
+	Scene s0 = render({a, b});
+	std::vector<StreamBox> boxes = boxesOf(s0);
+	// Two boxes of the frame given the same new id: one track takes it.
+	boxes[0].trackId = boxes[1].trackId = 7;
+	std::vector<StreamResult> r = run(stream, 0, s0, boxes);
+	EXPECT_EQ(r[0].trackId, 7);
+	EXPECT_GT(r[1].trackId, 0);
+	EXPECT_NE(r[1].trackId, 7);
+	EXPECT_EQ(stream.activeTracks(), 2);
+	// The second box, now carrying the first one's id, is still matched to
+	// its own track, by overlap.
+	const int second = r[1].trackId;
+	r = run(stream, 1, s0, boxes);
+	EXPECT_EQ(r[0].trackId, 7);
+	EXPECT_EQ(r[1].trackId, second);
+	EXPECT_EQ(r[1].mode, BoxMode::kTrack);
+	// A box of another object with id 7 starts a track of its own id.
+	std::vector<StreamBox> other = {boxes[0], boxes[1], boxes[0]};
+	other[2].objId = 2;
+	other[2].trackId = 7;
+	std::vector<StreamResult> r3 = run(stream, 2, s0, other);
+	EXPECT_EQ(r3[0].trackId, 7);
+	EXPECT_EQ(r3[1].trackId, second);
+	EXPECT_GT(r3[2].trackId, 0);
+	EXPECT_NE(r3[2].trackId, 7);
+	EXPECT_NE(r3[2].trackId, second);
+	EXPECT_EQ(stream.activeTracks(), 3);
+}
+
 TEST_F(StreamEstimatorTest, TrackedBoxesRunFirstAndDetectionsThatDoNotFitWait)
 {
 	test::StepClock clock(kMs);

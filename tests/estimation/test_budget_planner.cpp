@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: MIT
+// The budget planner (core/estimation/budget_planner.h) on a manual clock:
+// a stage never measured is predicted free; a measured one fits only while
+// its cost bound is left in the box's share; a vote pass is refused when it
+// would leave no room for the planned searches and polish rounds; polish
+// and re-search refusals are counted apart from the boxes cut short; a lean
+// box's search is measured apart from the budget's own; forgetting the
+// counts keeps the cost models.
+
+#include <gtest/gtest.h>
+
+#include "core/estimation/budget_planner.h"
+
+namespace ihf {
+namespace {
+
+constexpr int64_t kMs = 1000000;
+
+class ManualClock final : public Clock
+{
+public:
+	int64_t nowNs() const override { return t; }
+	int64_t t = 0;
+};
+
+// One run of `stage` lasting ms, observed by the planner.
+void run(BudgetPlanner &p, ManualClock &clock, Stage stage, int64_t ms)
+{
+	const int64_t start = p.timer().last();
+	clock.t += ms * kMs;
+	if (stage == Stage::kViews)
+		p.observeSearch(start);
+	else if (stage == Stage::kIcp)
+		p.observePolish(start);
+	else
+		p.observeStage(stage, start, false);
+}
+
+TEST(BudgetPlanner, AStageNeverMeasuredIsPredictedFree)
+{
+	ManualClock clock;
+	BudgetPlanner p(&clock);
+	p.beginFrame(1, 10.0f);
+	p.beginBox();
+	clock.t += 9 * kMs;
+	EXPECT_TRUE(p.stageFits(Stage::kHalfTurns, 0, false));
+	EXPECT_TRUE(p.polishFits(0));
+	EXPECT_FALSE(p.boxCut());
+}
+
+TEST(BudgetPlanner, AMeasuredStageFitsOnlyWhileItsCostIsLeft)
+{
+	ManualClock clock;
+	BudgetPlanner p(&clock);
+	p.beginFrame(1, 20.0f);
+	p.beginBox();
+	run(p, clock, Stage::kHalfTurns, 4);
+	EXPECT_TRUE(p.stageFits(Stage::kHalfTurns, 0, false)); // 4 ms used, 16 left
+	clock.t += 13 * kMs;                                    // 3 ms left
+	EXPECT_FALSE(p.stageFits(Stage::kHalfTurns, 0, false));
+	EXPECT_TRUE(p.boxCut());
+	EXPECT_FALSE(p.stageFits(Stage::kHalfTurns, 0, false));
+	EXPECT_EQ(p.counters().budgetStops, 1u); // a box is cut short once
+	p.endFrame(p.endBox());
+	EXPECT_EQ(p.frame().frames(), 1u);
+	EXPECT_EQ(p.frame().frameOverruns(), 0u);
+}
+
+TEST(BudgetPlanner, APassKeepsRoomForThePlannedSearchesAndPolish)
+{
+	ManualClock clock;
+	BudgetPlanner p(&clock);
+	p.beginFrame(1, 0.0f); // unlimited: measure
+	p.beginBox();
+	const StageTotals before = p.timer().totals();
+	clock.t += 2 * kMs;
+	p.timer().lap(Stage::kForest);
+	p.observePass(before, true);
+	run(p, clock, Stage::kViews, 3);
+	run(p, clock, Stage::kIcp, 1);
+	p.endFrame(p.endBox());
+	EXPECT_EQ(p.counters().iterations, 1u);
+
+	// 12 ms: a pass (2) fits alone, and with two searches (6) and two
+	// polish rounds (2) after it, but not with three searches more.
+	p.beginFrame(1, 12.0f);
+	p.beginBox();
+	p.plan(2, 2);
+	EXPECT_TRUE(p.passFits(0));
+	p.plan(5, 2);
+	EXPECT_FALSE(p.passFits(0));
+	EXPECT_EQ(p.counters().budgetStops, 1u);
+}
+
+TEST(BudgetPlanner, PolishAndResearchRefusalsAreCountedApart)
+{
+	ManualClock clock;
+	BudgetPlanner p(&clock);
+	p.beginFrame(1, 0.0f);
+	p.beginBox();
+	run(p, clock, Stage::kViews, 5);
+	run(p, clock, Stage::kIcp, 5);
+	p.endFrame(p.endBox());
+
+	p.beginFrame(1, 4.0f);
+	p.beginBox();
+	EXPECT_FALSE(p.polishFits(0));
+	EXPECT_EQ(p.counters().icpSkipped, 1u);
+	EXPECT_FALSE(p.boxCut()); // a refused polish does not cut the box
+	EXPECT_FALSE(p.researchFits(0, 1));
+	EXPECT_EQ(p.counters().researchesSkipped, 1u);
+	EXPECT_TRUE(p.boxCut());
+}
+
+TEST(BudgetPlanner, ALeanBoxMeasuresItsSearchApart)
+{
+	ManualClock clock;
+	BudgetPlanner p(&clock);
+	p.beginFrame(1, 0.0f);
+	p.beginBox();
+	run(p, clock, Stage::kViews, 10);
+	p.endFrame(p.endBox());
+
+	// A 15 ms share holds fewer than two 10 ms searches: lean.
+	p.beginFrame(1, 15.0f);
+	p.beginBox();
+	EXPECT_TRUE(p.chooseLeanSearch(2.0));
+	EXPECT_EQ(p.counters().leanSearchBoxes, 1u);
+	run(p, clock, Stage::kViews, 1); // the lean search
+	EXPECT_TRUE(p.searchFits(0, 0)); // 1 ms, lean: fits in 14
+	p.endFrame(p.endBox());
+
+	// The budget's search kept its own cost (eased once by the lean box).
+	p.beginFrame(1, 9.0f);
+	p.beginBox();
+	EXPECT_FALSE(p.chooseLeanSearch(0.5)); // 9 ms holds half of ~9.7 ms
+	EXPECT_FALSE(p.searchFits(0, 0));
+}
+
+TEST(BudgetPlanner, ForgettingTheCountsKeepsTheCosts)
+{
+	ManualClock clock;
+	BudgetPlanner p(&clock);
+	p.beginFrame(1, 0.0f);
+	p.beginBox();
+	run(p, clock, Stage::kIcp, 6);
+	p.endRegistration();
+	EXPECT_EQ(p.registrationNs(), 6 * kMs);
+	p.endFrame(p.endBox());
+	p.forgetCounts();
+	EXPECT_EQ(p.frame().frames(), 0u);
+	EXPECT_EQ(p.timer().counters()[static_cast<int>(Stage::kIcp)].calls, 0u);
+	p.beginFrame(1, 5.0f);
+	p.beginBox();
+	EXPECT_FALSE(p.polishFits(0)); // still predicted at 6 ms
+}
+
+TEST(BudgetPlanner, TheRegistrationPastItsShareIsCounted)
+{
+	ManualClock clock;
+	BudgetPlanner p(&clock);
+	p.beginFrame(2, 10.0f);
+	p.beginBox();
+	EXPECT_DOUBLE_EQ(p.shareMs(), 5.0);
+	clock.t += 7 * kMs;
+	p.timer().lap(Stage::kForest);
+	p.endRegistration();
+	EXPECT_EQ(p.counters().registrationOverruns, 1u);
+	EXPECT_NEAR(p.frameLeftMs(), 3.0, 1e-9);
+}
+
+} // namespace
+} // namespace ihf
