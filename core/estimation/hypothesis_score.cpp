@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/geometry/fixed_order.h"
+#include "core/geometry/projected_extent.h"
 #include "core/pose/depth_agreement.h"
 
 namespace ihf {
@@ -119,21 +119,10 @@ float boxAgreement(const Mesh &mesh, const Pose &pose, const CameraIntrinsics &w
 {
 	if (config.boxWeight <= 0 || mesh.vertices.empty() || window.width <= 0 || window.height <= 0)
 		return 1.0f;
-	const size_t stride = std::max<size_t>(1, mesh.vertices.size() / 512);
-	const Eigen::Matrix3f R = pose.R.cast<float>();
-	const Eigen::Vector3f t = pose.t.cast<float>();
-	float u0 = std::numeric_limits<float>::max(), v0 = u0, u1 = -u0, v1 = -u0;
-	for (size_t i = 0; i < mesh.vertices.size(); i += stride) {
-		const Eigen::Vector3f x = transformFixedOrder(R, mesh.vertices[i], t);
-		if (!(x.z() > 1.0f))
-			return 0.0f; // behind the camera: not a pose for this box
-		float u = static_cast<float>(window.fx) * x.x() / x.z() + static_cast<float>(window.cx);
-		float v = static_cast<float>(window.fy) * x.y() / x.z() + static_cast<float>(window.cy);
-		u0 = std::min(u0, u);
-		u1 = std::max(u1, u);
-		v0 = std::min(v0, v);
-		v1 = std::max(v1, v);
-	}
+	const std::optional<ProjectedExtent> extent = projectedExtent(mesh, pose, window);
+	if (!extent)
+		return 0.0f; // behind the camera: not a pose for this box
+	const float u0 = extent->u0, v0 = extent->v0, u1 = extent->u1, v1 = extent->v1;
 	const float area = std::max(1.0f, (u1 - u0) * (v1 - v0));
 	const float iw = std::max(0.0f, std::min(u1, static_cast<float>(window.width)) - std::max(u0, 0.0f));
 	const float ih = std::max(0.0f, std::min(v1, static_cast<float>(window.height)) - std::max(v0, 0.0f));

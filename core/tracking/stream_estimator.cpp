@@ -7,7 +7,7 @@
 
 #include <Eigen/Geometry>
 
-#include "core/geometry/fixed_order.h"
+#include "core/geometry/projected_extent.h"
 
 namespace ihf {
 
@@ -28,33 +28,6 @@ double iou(const PixelBox &a, double x0, double y0, double x1, double y1)
 double iou(const PixelBox &a, const PixelBox &b)
 {
 	return iou(a, b.x, b.y, static_cast<double>(b.x) + b.w, static_cast<double>(b.y) + b.h);
-}
-
-// The image box of the model at `pose` (at most ~256 strided vertices);
-// false when part of it lies behind the camera.
-bool projectedBox(const Mesh &mesh, const Pose &pose, const CameraIntrinsics &K, double box[4])
-{
-	if (mesh.vertices.empty())
-		return false;
-	const size_t stride = std::max<size_t>(1, mesh.vertices.size() / 256);
-	const Eigen::Matrix3f R = pose.R.cast<float>();
-	const Eigen::Vector3f t = pose.t.cast<float>();
-	double u0 = std::numeric_limits<double>::max(), v0 = u0, u1 = -u0, v1 = -u0;
-	for (size_t i = 0; i < mesh.vertices.size(); i += stride) {
-		const Eigen::Vector3f x = transformFixedOrder(R, mesh.vertices[i], t);
-		if (!(x.z() > 1.0f))
-			return false;
-		const double u = K.fx * x.x() / x.z() + K.cx, v = K.fy * x.y() / x.z() + K.cy;
-		u0 = std::min(u0, u);
-		u1 = std::max(u1, u);
-		v0 = std::min(v0, v);
-		v1 = std::max(v1, v);
-	}
-	box[0] = u0;
-	box[1] = v0;
-	box[2] = u1;
-	box[3] = v1;
-	return true;
 }
 
 // delta applied `times` times (a rotation's angle scaled, its translation
@@ -212,7 +185,14 @@ void StreamEstimator::matchBoxes(std::span<const StreamBox> boxes, const CameraI
 		const Track &t = tracks_[k];
 		Region &r = regions_[k];
 		if (t.state == TrackState::kTracked) {
-			r.valid = projectedBox(t.model->mesh(), predicted(t, frame), K, r.box);
+			const std::optional<ProjectedExtent> e = projectedExtent(t.model->mesh(), predicted(t, frame), K);
+			r.valid = e.has_value();
+			if (e) {
+				r.box[0] = e->u0;
+				r.box[1] = e->v0;
+				r.box[2] = e->u1;
+				r.box[3] = e->v1;
+			}
 		} else {
 			r.valid = t.state == TrackState::kPending;
 			r.box[0] = t.lastBox.x;
