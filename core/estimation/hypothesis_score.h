@@ -27,11 +27,10 @@ struct ScoreConfig {
 	// true pose, only at edges and in sensor noise; an occluded pixel
 	// (something in front) often does, up to most of the object. Weighted
 	// 1 / 0.5, a model laid on the occluder in front outscored the truth in
-	// a sixth of the synthetic ape boxes (BENCHMARKS.md, session 5). At
-	// 3 / 0.2 it still won 25 of the 66 boxes lost on the session-31
-	// Kinect benchmark; 0.1 with a box weight of 1.5 gained 0.012 mean F1
-	// over 41 object/forest pairs with amodal boxes, but lost 0.065 with
-	// boxes round the visible part (session 32). These defaults are for
+	// a sixth of the synthetic ape boxes. At 3 / 0.2 it still won 25 of
+	// the 66 boxes lost on a Kinect-noise benchmark; 0.1 with a box weight
+	// of 1.5 gained 0.012 mean F1 over 41 object/forest pairs with amodal
+	// boxes, but lost 0.065 with boxes round the visible part. These defaults are for
 	// amodal boxes; the tool keeps both sets (firmware_app: BoxKind).
 	float outlierWeight = 3.0f;
 	float occludedWeight = 0.1f;
@@ -48,23 +47,24 @@ struct ScoreConfig {
 	// outermost boxOccludedBandPx columns or rows lies behind the scene
 	// (occluded) is open to overhang: a box drawn round the visible part
 	// of an object (a modal detection) cuts the truth where something
-	// hides it. 0: off, for amodal boxes, where it costs (session 32:
-	// synkaz 0.873 -> 0.856 amodal, 0.797 -> 0.812 modal at 0.5).
+	// hides it. 0: off, for amodal boxes, where it costs (synkaz mean F1,
+	// off against 0.5: 0.873 against 0.856 amodal, 0.797 against 0.812
+	// modal).
 	float boxOccludedSide = 0.0f;
 	int boxOccludedBandPx = 2;
 	// An inlier counts 1 - residualWeight (e / inlierMm)^2 instead of 1, so
 	// a pose whose surface fits to the sensor's noise beats one whose
 	// inliers merely fall inside the band (a wrong rotation of a rounded
-	// object). 0: every inlier counts 1 (until session 7). Syn200 mean F1
-	// +0.01 to +0.07 per object with 1 (BENCHMARKS.md).
+	// object). 0: every inlier counts 1. Syn200 mean F1 +0.01 to +0.07 per
+	// object with 1 against 0.
 	float residualWeight = 1.0f;
 	// An outlier on the rendering's outline (a 4-neighbour not drawn) is
 	// not counted: a structured-light sensor's edges wander by a pixel or
 	// so and a time-of-flight camera's edge pixels float between the two
 	// surfaces, so the background shows inside the true pose's outline,
-	// most of all around a small visible part. Mean F1 +0.012 on both
-	// session-31 benchmarks, within +-0.002 on the older ones
-	// (BENCHMARKS.md). false: every outlier counts (until session 31).
+	// most of all around a small visible part. Mean F1 +0.012 on the
+	// Kinect- and time-of-flight-noise benchmarks, within +-0.002 on the
+	// others. false: every outlier counts.
 	bool skipEdgeOutliers = true;
 };
 

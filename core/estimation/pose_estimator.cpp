@@ -464,7 +464,7 @@ void PoseEstimator::searchViewTemplates(const CameraIntrinsics &K, const ObjectM
 	// after it (unbudgeted, everything fits). A box with no room for even
 	// one search eases the search's prediction (StageCostModel::refused()):
 	// else a cost once measured too high would keep the search out of
-	// every later box (a 10 ms run in session 24 searched in none of 200).
+	// every later box (a 10 ms run of 200 boxes searched in none).
 	int searched = 0;
 	auto searchFits = [&]() {
 		const bool first = searched++ == 0;

@@ -136,9 +136,9 @@ struct EstimatorConfig {
 	// each bounds its setting as the tight profile's do (0: as the
 	// registration). The registration has to find the object; an
 	// iteration re-votes on a crop already cut to its hypothesis' depth
-	// range, and its modes only add candidates to the polish. Session 27:
-	// k = 5 the same mean F1 (16 object-forest-benchmark pairs) at 30-37 %
-	// less time a box (BENCHMARKS.md).
+	// range, and its modes only add candidates to the polish. At k = 5:
+	// the same mean F1 over 16 object-forest-benchmark pairs at 30-37 %
+	// less time a box.
 	int iterationIbsMaxPoints = 300;
 	int iterationIbsCgIterations = 6;
 	int iterationMaxShiftVotes = 1024;
@@ -147,11 +147,10 @@ struct EstimatorConfig {
 	// Inside a frame budget, at most this many refinement iterations and
 	// depth slabs (-1: as without a budget; the view search has its own,
 	// ViewSearchConfig::budget*). On a 33 ms frame their time buys more in
-	// the view search and ICP (BENCHMARKS.md, session 12); the iterations
-	// stay anytime whatever the bound, each only if the view searches, the
-	// polish and the re-search still fit after it (session 35, -1, 10 ms,
-	// syn200 ape: 0.370 with room kept for one polish round alone, 0.895
-	// with the searches'; BENCHMARKS.md).
+	// the view search and ICP; the iterations stay anytime whatever the
+	// bound, each only if the view searches, the polish and the re-search
+	// still fit after it (budget_planner.h; -1 at 10 ms, syn200 ape: 0.370
+	// with room kept for one polish round alone, 0.895 with the searches').
 	int budgetIterations = 0;
 	// and at most this many re-search rounds (researchRounds; -1: as
 	// without a budget). Not capped by the iterations' bound above: only
@@ -160,13 +159,13 @@ struct EstimatorConfig {
 	int budgetDepthWindows = 1;
 	// and parts kept near at most this many (targetParts; 0: as without a
 	// budget): a large object's registration alone overruns 33 ms at 600,
-	// and the time buys more in the view search (BENCHMARKS.md, session 14).
+	// and the time buys more in the view search.
 	int budgetTargetParts = 30;
 	// The IBS fit of a box, from at most this many depth points and with
 	// at most this many CG iterations (0: the forest's own [ibs] values);
 	// inside a budget the budget* ones (0: as without a budget). The fit
 	// was a third of a 33 ms box; there the votes only place the view
-	// search (BENCHMARKS.md, session 19).
+	// search.
 	int ibsMaxPoints = 0;
 	int ibsCgIterations = 0;
 	int budgetIbsMaxPoints = 500;
@@ -174,7 +173,7 @@ struct EstimatorConfig {
 	// A box whose share of its frame is shorter than budgetTightMs runs a
 	// leaner registration still (0: never): at 10 ms the registration took
 	// 6-8 of them and left the view search and the polish no room; with
-	// these values it takes ~3 (BENCHMARKS.md, session 24). With room to
+	// these values it takes ~3. With room to
 	// spare the fuller vote is worth its time. Each bounds its setting as
 	// the budget* ones do (0: as under the budget).
 	float budgetTightMs = 24.0f;
@@ -186,25 +185,25 @@ struct EstimatorConfig {
 	int tightRotationModes = 2;
 	// and searches with at most this share for the view search's shifted
 	// placements (ViewSearchConfig::centreShiftShare): they double the
-	// search, which a 10 ms box cannot afford (session 33: syn200 fixed
-	// 0.848 -> 0.780 with them, 33 ms 0.890 -> 0.909).
+	// search, which a 10 ms box cannot afford (syn200, mean F1 without
+	// them against with them: 0.848 against 0.780 at 10 ms; at 33 ms they
+	// gain, 0.909 against 0.890).
 	float tightCentreShiftShare = 0.0f;
 	// And a box whose share is shorter than budgetShortMs polishes with at
 	// most shortIcpIterations ICP iterations a round (0: as configured):
 	// at 10 ms a round of 10 took ~1 ms, and half of them buy more rounds
-	// and searches; at 20 ms the full rounds are worth their time
-	// (BENCHMARKS.md, session 25).
+	// and searches; at 20 ms the full rounds are worth their time.
 	float budgetShortMs = 15.0f;
 	int shortIcpIterations = 5;
 	// and renders the model once a round, not every iteration
 	// (IcpConfig::renderOnce): a round ~0.45 -> ~0.35 ms at 10 ms, more
 	// rounds and searches; with more time the render each iteration is
-	// the more precise (BENCHMARKS.md, session 26).
+	// the more precise.
 	bool shortIcpRenderOnce = true;
 	// and scores occluded pixels with this weight instead of
 	// score.occludedWeight (negative: as that): offline the lower 0.1 gains,
 	// at 10 ms, with few and mostly unpolished candidates, it lost 0.02
-	// mean F1 (BENCHMARKS.md, session 32).
+	// mean F1.
 	float shortOccludedWeight = 0.2f;
 	// A box's window at most this many pixels (0: EstimatorLimits::
 	// maxWindowPixels); a larger box is processed downsampled, as at the
@@ -214,14 +213,14 @@ struct EstimatorConfig {
 	int budgetWindowPixels = 4000;
 	// A stage that can be cut runs only if its average cost plus this many
 	// mean deviations fits (stage_timer.h): the average alone is exceeded
-	// about half the time, and the box then overruns (BENCHMARKS.md,
-	// session 13: 1 cuts the overruns by 2/3 for ~0.015 mean F1).
+	// about half the time, and the box then overruns (1 cuts the overruns
+	// by 2/3 for ~0.015 mean F1).
 	float budgetMargin = 1.0f;
 	// The polish and the half-turns (renders and ICP on the crop) are
 	// predicted per depth pixel of the box, scaled to each box: the
 	// warm-up's box is the largest, and its cost taken as is kept the
-	// polish out of every small box that followed (BENCHMARKS.md, session
-	// 19). false: their last costs as they are.
+	// polish out of every small box that followed. false: their last
+	// costs as they are.
 	bool budgetScaleByBox = true;
 };
 
