@@ -144,15 +144,15 @@ HypothesisScore scoreCounts(int in, int out, int occ, const ScoreConfig &cfg)
 
 TEST(HypothesisScore, TheAmodalDefaultsPreferAHiddenTruthToAPoseOnItsOccluder)
 {
-	// Counts traced on the session-31 Kinect benchmark (duck, image 32):
+	// Counts traced on the synkaz Kinect benchmark (duck, image 32):
 	// the truth, two thirds hidden, against a wrong pose laid on the
 	// occluder 116 mm in front, which overhangs the given box (the cube
-	// below, moved 40 mm sideways: ~0.85 of its extent inside). Session
-	// 31's weights (occluded 0.2, box power 1; the tool's weights for
+	// below, moved 40 mm sideways: ~0.85 of its extent inside). The
+	// weights occluded 0.2, box power 1 (the tool's weights for
 	// modal boxes) pick the occluder; the defaults, occluded pixels at 0.1
 	// and the box factor to the power 1.5, pick the truth, which gains
 	// with amodal boxes and loses with boxes round the visible part
-	// (BENCHMARKS.md, sessions 32 and 33).
+	// (BENCHMARKS.md).
 	const Mesh cube = unitCube(100.0f);
 	const CameraIntrinsics K{500, 500, 39.5, 39.5, 80, 80};
 	Pose off;
