@@ -168,12 +168,12 @@ TEST(HypothesisScore, TheAmodalDefaultsPreferAHiddenTruthToAPoseOnItsOccluder)
 	EXPECT_NEAR(boxAgreement(cube, off, K, defaults), 0.78f, 0.05f);
 	const auto [truth, wrong] = scores(defaults);
 	EXPECT_GT(truth, wrong);
-	ScoreConfig session31;
-	session31.occludedWeight = 0.2f;
-	session31.boxWeight = 1.0f;
-	EXPECT_NEAR(boxAgreement(cube, off, K, session31), 0.85f, 0.05f);
-	const auto [oldTruth, oldWrong] = scores(session31);
-	EXPECT_LT(oldTruth, oldWrong);
+	ScoreConfig heavierOcclusion;
+	heavierOcclusion.occludedWeight = 0.2f;
+	heavierOcclusion.boxWeight = 1.0f;
+	EXPECT_NEAR(boxAgreement(cube, off, K, heavierOcclusion), 0.85f, 0.05f);
+	const auto [heavyTruth, heavyWrong] = scores(heavierOcclusion);
+	EXPECT_LT(heavyTruth, heavyWrong);
 }
 
 TEST(BoxAgreement, ASideHiddenByTheSceneOpensWhenAsked)
