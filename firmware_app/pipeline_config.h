@@ -33,7 +33,7 @@ struct TrainSettings {
 // What the given boxes bound ([boxes] kind, `--box-kind`). The score's
 // box factor and its occlusion weight are measured for one or the other:
 // weights that gain with boxes round the whole object lose with boxes round
-// its visible part (BENCHMARKS.md, sessions 32 and 33).
+// its visible part (BENCHMARKS.md).
 enum class BoxKind {
 	kAmodal, // the whole object, hidden parts too (BOP's bbox_obj; issue 3's LM-O protocol)
 	kModal,  // the visible part (BOP's bbox_visib; what most detectors give)
@@ -60,7 +60,7 @@ struct EstimateSettings {
 	// weights estimator.score holds (useBoxKind).
 	BoxKind boxKind = BoxKind::kAmodal;
 	BoxKindWeights amodal{ScoreConfig{}.occludedWeight, ScoreConfig{}.boxWeight, ScoreConfig{}.boxOccludedSide};
-	// Session 31's weights with the sides the scene hides open to overhang:
+	// Occluded 0.2, box power 1, and the sides the scene hides open to overhang:
 	// synkaz, fixed forests, k = 5, boxes round the visible part, mean F1
 	// 0.812 against 0.732 with the amodal weights (BENCHMARKS.md).
 	BoxKindWeights modal{0.2f, 1.0f, 0.5f};

@@ -69,7 +69,7 @@ ihfRun ihf_variable_k5_icp "$trainVar" "${forests[@]}" --iterations 5
 if [ ${#fixed[@]} -gt 0 ]; then
 	ihfRun ihf_fixed_k0 "$trainFix" "${fixed[@]}" --iterations 0 --paper
 	ihfRun ihf_fixed_k5 "$trainFix" "${fixed[@]}" --iterations 5 --paper
-	ihfRun ihf_fixed_k5_icp "$trainFix" "${fixed[@]}" --iterations 5 # config/train.toml's kind since session 3
+	ihfRun ihf_fixed_k5_icp "$trainFix" "${fixed[@]}" --iterations 5 # config/train.toml's kind
 	# The device mode: the default config inside a budget of B ms per box
 	# (the budget bounds of config/estimate.toml apply), still one thread.
 	# ihf estimate's budget is per frame, shared by its boxes. 33 ms per box

@@ -12,9 +12,9 @@
 // evaluation measures a pose error (the mean distance of model points).
 // Symmetric objects are compared by their centre only, since a turn by a
 // symmetry is not a different pose.
-// Syn200/syn77/syn99, nine forest x benchmark runs, mean F1 0.847 ->
-// 0.867 with the confidence = score min(1, margin / 0.1) (BENCHMARKS.md,
-// session 17).
+// Syn200/syn77/syn99, nine forest x benchmark runs: mean F1 0.867 with the
+// confidence = score min(1, margin / 0.1) against 0.847 with the score alone
+// (BENCHMARKS.md).
 
 #include <span>
 

@@ -152,7 +152,8 @@ Status IbsFitter::buildActiveSet()
 	}
 	activeCount_ = count;
 	// The marked nodes in node order: a scan of their range, not a sort
-	// (the sort was ~15 % of a fit; session 35: a fit 10 % faster).
+	// (a sort was ~15 % of a fit from 150 points; the scan makes a fit ~10 %
+	// faster, in the same order, so the same bits).
 	int a = 0;
 	for (int32_t node = first; node <= last; ++node)
 		if (map_[node] == -2) {

@@ -5,9 +5,9 @@
 // model's centre. Many objects look alike from a view and its half-turn
 // (the can upside down, the duck facing away), and a wrong pose of that kind
 // sits at a strong vote mode with its best rotation neighbours all wrong; a
-// half-turn of the best hypothesis is where the right one lies (issue 3,
-// session 9: 17 of the can's 48 failures were within 15 deg of one of 64
-// half-turns of the winning pose). The axes are spread evenly over a
+// half-turn of the best hypothesis is where the right one lies (syn200: 17
+// of the can's 48 failures were within 15 deg of one of 64 half-turns of the
+// winning pose). The axes are spread evenly over a
 // hemisphere of the model frame (a turn about -a is the turn about a),
 // generated on demand. The estimator then moves each turn so that the
 // surface it shows sits where the hypothesis' did (`align`).
@@ -30,7 +30,7 @@ struct HalfTurnConfig {
 	// Also turn about the centroid of the candidate's inliers (the model
 	// surface that agrees with the scene): the part of a wrong pose that
 	// fits is where the object is, so a half-turn about it keeps that part
-	// in place. Session 10: the can upside down and 74 mm along its axis
+	// in place. A failure seen on syn200: the can upside down and 74 mm along its axis
 	// from the truth, which the centroid alignment above misses; on the
 	// 8 x 200 synthetic boxes a wash (config/estimate.toml), so off.
 	bool inlierPivot = false;
@@ -45,7 +45,7 @@ struct HalfTurnConfig {
 	// Also turn about the model frame's own three axes, the axes of its
 	// box, exactly: the lattice's axis nearest the can's vertical lies 7 deg
 	// off it, and a turn about it lands up to 14 deg from the can turned
-	// round, too far for the polish (session 30).
+	// round, too far for the polish.
 	bool boxAxes = true;
 };
 

@@ -54,17 +54,17 @@ struct ViewSearchConfig {
 	// object with a margin (issue 3's protocol: 10 % larger; a detector's
 	// slack) has the object's far edge inside its own, and a rotation
 	// placed tens of millimetres off scores below wrong ones before the
-	// climb could move it (session 33: synkaz boxes at the border were
-	// lost at three times the rate of the others). 0: the edge only.
+	// climb could move it (without the insets synkaz boxes at the border
+	// are lost at three times the rate of the others). 0: the edge only.
 	int edgeInsets = 2;
 	float edgeInsetShare = 0.075f;
 	// On an axis the box is trusted on, the box-centred placement is also
 	// tried this share of the rotation's extent to either side: a box off
 	// centre by a few percent (ihf synth shifts its boxes by up to 10 %, a
 	// detector's jitter) puts the true rotation millimetres off, where
-	// wrong ones outscore it before the climb (session 33: synkaz fixed
-	// 0.897 -> 0.917 at 0.06, the view search twice as long). 0: centred
-	// only.
+	// wrong ones outscore it before the climb (synkaz fixed: 0.917 at 0.06
+	// against 0.897 centred only, the view search twice as long). 0:
+	// centred only.
 	float centreShiftShare = 0.06f;
 	// Under a frame budget (0: centred only).
 	float budgetCentreShiftShare = 0.06f;
@@ -73,7 +73,7 @@ struct ViewSearchConfig {
 	// itself (the box's ray: the model's origin on it) joins in the fine
 	// pass. The two differ by the offset of the origin from the middle of
 	// what the view shows, and the coarse pass only ranks: half its cost
-	// (BENCHMARKS.md, session 25). true: both in the coarse pass too.
+	// (BENCHMARKS.md). true: both in the coarse pass too.
 	bool coarseAtCentre = false;
 	// Coarse-to-fine: every rotation is first scored on an even subset of
 	// coarsePoints of its view's points; only the coarseKeep best are
@@ -104,33 +104,33 @@ struct ViewSearchConfig {
 	// pose. 0: sideways only.
 	float rotationStepDeg = 8.0f;
 	int refineTop = 64; // at most kMaxRefineTop
-	// Under a frame budget (the device) the cheaper climb: fewer climbers
-	// (the turns were off until session 29: on session 12's machine their
-	// time bought more as a further centre; on session 29's they win at
-	// 10 to 33 ms, BENCHMARKS.md).
+	// Under a frame budget (the device) the cheaper climb: fewer climbers,
+	// with the turns (they win at 10 to 33 ms on two current x86 cores;
+	// on a machine with a search several times slower their time buys more
+	// as a further centre; BENCHMARKS.md).
 	float budgetRotationStepDeg = 8.0f;
 	int budgetRefineTop = 24;
 	// and a cheaper coarse pass, so that the search fits a frame at all
-	// (the templates' viewpoints are fewer too: ViewTemplateConfig). 16
-	// coarse points until session 29.
+	// (the templates' viewpoints are fewer too: ViewTemplateConfig); 32
+	// coarse points with the turns score higher than 16 without them.
 	int budgetCoarsePoints = 32;
 	int budgetCoarseKeep = 256;
-	// and at most this many depth centres (2 until session 23: a third
-	// search left no time for the ICP polish until the search was made
-	// twice as fast; BENCHMARKS.md).
+	// and at most this many depth centres (a third search fits beside the
+	// ICP polish because the search is fast; with a search twice as slow it
+	// left the polish no time; BENCHMARKS.md).
 	int budgetDepthCentres = 3;
 	// and the thinner slabs' centres only if this is set (0: none).
 	float budgetDepthCentreWidth = 0.0f;
 	// Inside a budget every search after the first must leave room for
 	// this many ICP polish rounds after it: in a short frame the searches
-	// would otherwise take all the time and the polish none (20 ms frames,
-	// session 23). 0: searches while they fit.
+	// would otherwise take all the time and the polish none (20 ms frames).
+	// 0: searches while they fit.
 	int budgetPolishRounds = 2;
 	// Search the depth centres before the voted ones: where the frame has
 	// room for one search or two, the box's depth places the object more
 	// often than the votes (at 33 ms the depth centres' proposals came
 	// near the truth in 160 ape boxes of 200, the voted centre's in 114,
-	// in 8 of them alone; BENCHMARKS.md, session 24). Unbudgeted every
+	// in 8 of them alone; BENCHMARKS.md). Unbudgeted every
 	// centre is searched; the order only ranks equal proposals.
 	bool depthFirst = false;
 	bool budgetDepthFirst = true;
@@ -138,7 +138,7 @@ struct ViewSearchConfig {
 	// the budget's searches, as measured so far, searches with the lean
 	// settings below (0: never): with a few milliseconds a box (several
 	// boxes to a frame) the budget's search leaves no time for the polish,
-	// or does not fit at all (BENCHMARKS.md, session 29). Counted in
+	// or does not fit at all (BENCHMARKS.md). Counted in
 	// searches, not milliseconds, so that a slower machine turns lean
 	// at a longer share.
 	float leanSearchBelow = 2.5f;

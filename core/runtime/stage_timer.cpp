@@ -49,7 +49,7 @@ void StageCostModel::observe(Stage stage, int64_t ns, double work)
 		// every later frame, and a stage that no longer runs is never
 		// observed again to correct it (syn200 at 33 ms: one 52 ms view
 		// search, a quarter fewer searches for the rest of the run, mean F1
-		// 0.85 -> 0.77). So the step is clipped; a lasting change still
+		// 0.77 against 0.85 without the stall). So the step is clipped; a lasting change still
 		// comes through within a few observations, as each clipped step
 		// widens the spread. Clipped nearer (4 deviations), the bunny's
 		// large boxes overran more often: its costs are heavy-tailed.

@@ -60,7 +60,7 @@ private:
 	// the run it woke for, so one that wakes late (descheduled by another
 	// process) claims nothing of a later run. A run ends when its tasks are
 	// finished, not when every worker has checked in: the caller never waits
-	// for a worker that is not running (BENCHMARKS.md, session 30).
+	// for a worker that is not running (BENCHMARKS.md, the pool under load).
 	std::atomic<uint64_t> claim_{0};
 	std::atomic<int> finished_{0}; // the current run's tasks finished
 	std::atomic<bool> stop_{false};

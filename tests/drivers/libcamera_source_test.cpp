@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The libcamera source on a machine without a camera: its URI, and the
-// clear error open() gives. Capture itself needs a camera (see README).
+// clear error open() gives. Capture itself needs a camera (see docs/device.md).
 
 #include <gtest/gtest.h>
 

@@ -236,13 +236,13 @@ TEST(GoldenPose, Amd64ForestAndFrameGiveTheAmd64Poses)
 		boxes = std::min(boxes, static_cast<size_t>(std::atoi(n)));
 
 	EstimatorConfig config; // the defaults: 5 refinements, ICP; no budget
-	// The golden poses were made polishing 8 hypotheses, the default until
-	// session 9 (now 16: the same code, more of it).
+	// The golden poses are made polishing 8 hypotheses (the default polishes
+	// 16: the same code, more of it),
 	config.icpCandidates = 8;
-	// and with refinement iterations voting as the registration does, the
-	// default until session 27.
+	// with refinement iterations voting as the registration does,
 	iterationsAsRegistration(config);
-	// and rendering every half-turn, the default until session 28.
+	// and rendering every half-turn (screen = 0), so that the golden run
+	// covers those code paths; the defaults differ only in how much of them runs.
 	config.halfTurns.screen = 0;
 	const bool small = std::getenv("IHF_GOLDEN_SMALL") != nullptr;
 	ASSERT_FALSE(small && write) << "golden poses come from the full run";

@@ -190,7 +190,7 @@ TEST_F(UpsideDownCan, TheBestTurnOfAnUpsideDownCanIsTheTruth)
 	EXPECT_LT((turns[0].second.t - truth.t).norm(), 1e-6);
 }
 
-// The failure seen on the synthetic can (session 30): the can turned round
+// A failure seen on the synthetic can (syn200): the can turned round
 // its own vertical axis, spout for handle. The lattice's axis nearest the
 // model's z lies ~7 deg off it, so its best turn stays degrees from the
 // truth; the turn about the box's z axis is the truth itself.
@@ -229,7 +229,7 @@ TEST_F(UpsideDownCan, TheCanTurnedRoundItsAxisComesBackExactlyAboutItsBoxAxis)
 	EXPECT_NEAR(boxScore, scoreOf(truth), 1e-6);
 }
 
-// The failure seen on the synthetic can (session 10): the pose upside down
+// A failure seen on the synthetic can (syn200): the pose upside down
 // and 74 mm along the can's height, a half-turn about the model point
 // (0, 0, -37) rather than the centre. Turns about the centre stay ~74 mm
 // off, beyond ICP's reach; turns about the centroid of the wrong pose's

@@ -144,15 +144,15 @@ HypothesisScore scoreCounts(int in, int out, int occ, const ScoreConfig &cfg)
 
 TEST(HypothesisScore, TheAmodalDefaultsPreferAHiddenTruthToAPoseOnItsOccluder)
 {
-	// Counts traced on the session-31 Kinect benchmark (duck, image 32):
+	// Counts traced on the synkaz Kinect benchmark (duck, image 32):
 	// the truth, two thirds hidden, against a wrong pose laid on the
 	// occluder 116 mm in front, which overhangs the given box (the cube
-	// below, moved 40 mm sideways: ~0.85 of its extent inside). Session
-	// 31's weights (occluded 0.2, box power 1; the tool's weights for
+	// below, moved 40 mm sideways: ~0.85 of its extent inside). The
+	// weights occluded 0.2, box power 1 (the tool's weights for
 	// modal boxes) pick the occluder; the defaults, occluded pixels at 0.1
 	// and the box factor to the power 1.5, pick the truth, which gains
 	// with amodal boxes and loses with boxes round the visible part
-	// (BENCHMARKS.md, sessions 32 and 33).
+	// (BENCHMARKS.md).
 	const Mesh cube = unitCube(100.0f);
 	const CameraIntrinsics K{500, 500, 39.5, 39.5, 80, 80};
 	Pose off;
@@ -168,12 +168,12 @@ TEST(HypothesisScore, TheAmodalDefaultsPreferAHiddenTruthToAPoseOnItsOccluder)
 	EXPECT_NEAR(boxAgreement(cube, off, K, defaults), 0.78f, 0.05f);
 	const auto [truth, wrong] = scores(defaults);
 	EXPECT_GT(truth, wrong);
-	ScoreConfig session31;
-	session31.occludedWeight = 0.2f;
-	session31.boxWeight = 1.0f;
-	EXPECT_NEAR(boxAgreement(cube, off, K, session31), 0.85f, 0.05f);
-	const auto [oldTruth, oldWrong] = scores(session31);
-	EXPECT_LT(oldTruth, oldWrong);
+	ScoreConfig heavierOcclusion;
+	heavierOcclusion.occludedWeight = 0.2f;
+	heavierOcclusion.boxWeight = 1.0f;
+	EXPECT_NEAR(boxAgreement(cube, off, K, heavierOcclusion), 0.85f, 0.05f);
+	const auto [heavyTruth, heavyWrong] = scores(heavierOcclusion);
+	EXPECT_LT(heavyTruth, heavyWrong);
 }
 
 TEST(BoxAgreement, ASideHiddenByTheSceneOpensWhenAsked)

@@ -291,7 +291,7 @@ TEST_F(ViewSearchTest, ABoxClippedByTheFrameFindsTheObjectPastItsEdge)
 	cfg.keep = 6;
 	// The placement against the edge alone. With the placements inside it
 	// too (the default) this box, only 5 % larger than the object, is found
-	// less often on these clean renders (10 of 16 against 14 in session 33:
+	// less often on these clean renders (10 of 16 against 14 when measured:
 	// more placements, more wrong rotations at the sparse score's ceiling),
 	// while on the benchmarks' boxes at the frame's border they gained
 	// (BENCHMARKS.md); that cost is bounded below.
@@ -575,7 +575,7 @@ TEST_F(ViewSearchTest, LateralClimbUndoesABoxCentreOffByMillimetres)
 // rotations outscore it before the climb; the placements shifted to either
 // side of the centre (centreShiftShare) find it more often. (On these clean
 // renders a tenth is mostly undone by the climb alone, 11 of 12 against 12;
-// on the noisy, occluded benchmarks it was not, BENCHMARKS.md, session 33.)
+// on the noisy, occluded benchmarks it is not, BENCHMARKS.md.)
 TEST_F(ViewSearchTest, ShiftedPlacementsFindTheObjectOffTheBoxCentre)
 {
 	std::mt19937_64 rng(37);

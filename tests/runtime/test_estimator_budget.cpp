@@ -398,8 +398,8 @@ TEST_F(EstimatorBudget, LaterViewSearchesLeaveRoomForThePolish)
 
 // Inside a budget a refinement iteration runs only if what follows it still
 // fits: the view searches, the polish and the re-search (iterations that
-// took their time left the ape 0.370 mean F1 at 10 ms, 0.895 without,
-// BENCHMARKS.md, session 35). Over the frames from the box without the
+// take their time leave the syn200 ape at 0.370 mean F1 in 10 ms frames,
+// against 0.895 when they wait for time left over; BENCHMARKS.md). Over the frames from the box without the
 // iteration to the box with it, all of those run in a shorter frame than
 // the iteration first runs in; with room for all, it runs and so do they.
 TEST_F(EstimatorBudget, AnIterationLeavesRoomForTheSearchesAndThePolish)

@@ -4,7 +4,7 @@
 // translation, and the search's new proposals are polished. It runs only
 // with refinement (k > 0), at most its rounds and k, and never returns a
 // pose that scores below the one it started from. What it buys is measured
-// on the benchmarks (BENCHMARKS.md, session 34: occluded objects whose
+// on the benchmarks (BENCHMARKS.md: occluded objects whose
 // registration put a wrong rotation 16-120 mm off; the polish brings that
 // onto the object and a search there places the true rotation right).
 
