@@ -16,6 +16,7 @@
 #include "core/dataset/atomic_file.h"
 #include "core/model/forest_file.h"
 #include "firmware_app/command.h"
+#include "firmware_app/forest_set.h"
 #include "firmware_app/estimate_stats.h"
 #include "firmware_app/pipeline_config.h"
 #include "firmware_app/warm_up_note.h"
@@ -196,33 +197,17 @@ int runEstimate(const EstimateOptions &o)
 		useBoxKind(s, *kind);
 	}
 
-	std::map<int, std::unique_ptr<ObjectModel>> models;
-	for (const auto &spec : o.forests) {
-		auto eq = spec.find('=');
-		int id = -1;
-		try {
-			id = eq == std::string::npos ? -1 : std::stoi(spec.substr(0, eq));
-		} catch (...) {
-		}
-		if (id < 0) {
-			std::fprintf(stderr, "ihf estimate: --forest expects OBJ_ID=FILE, got \"%s\"\n", spec.c_str());
-			return kExitUsage;
-		}
-		auto m = loadModelFile(spec.substr(eq + 1));
-		if (!m) {
-			std::fprintf(stderr, "ihf estimate: %s\n", m.error().message.c_str());
-			return kExitFailure;
-		}
-		if ((*m)->params().objId != id)
-			std::fprintf(stderr, "ihf estimate: note: %s was trained as object %d, used for %d\n",
-				     spec.substr(eq + 1).c_str(), (*m)->params().objId, id);
-		if (Status st = prepareModel(**m, s); !st) {
-			std::fprintf(stderr, "ihf estimate: %s: %s\n", spec.substr(eq + 1).c_str(), st.error().message.c_str());
-			return kExitFailure;
-		}
-		growLimitsFor(s.limits, **m);
-		models[id] = std::move(m.value());
+	Expected<std::map<int, std::filesystem::path>> forestFiles = parseForestOptions(o.forests);
+	if (!forestFiles) {
+		std::fprintf(stderr, "ihf estimate: %s\n", forestFiles.error().message.c_str());
+		return kExitUsage;
 	}
+	Expected<ForestSet> forests = ForestSet::load(*forestFiles, s, "ihf estimate");
+	if (!forests) {
+		std::fprintf(stderr, "ihf estimate: %s\n", forests.error().message.c_str());
+		return kExitFailure;
+	}
+	const std::map<int, const ObjectModel *> &models = forests->models();
 
 	auto dataset = BopDataset::open(o.dataset, o.split);
 	if (!dataset) {
@@ -381,7 +366,7 @@ int runEstimate(const EstimateOptions &o)
 					skipped++;
 					continue;
 				}
-				streamBoxes.push_back({d->categoryId, pixelsOfBox(d->bbox), 0, mIt->second.get()});
+				streamBoxes.push_back({d->categoryId, pixelsOfBox(d->bbox), 0, mIt->second});
 				streamDets.push_back(d);
 			}
 			std::vector<StreamResult> results(streamBoxes.size());

@@ -17,6 +17,7 @@
 #include "drivers/source_factory.h"
 #include "firmware_app/box_feed.h"
 #include "firmware_app/command.h"
+#include "firmware_app/forest_set.h"
 #include "firmware_app/pipeline_config.h"
 #include "firmware_app/pose_output.h"
 #include "firmware_app/pose_stage.h"
@@ -89,18 +90,10 @@ int runRun(const RunOptions &o)
 		rs.boxKind = *kind;
 	}
 	if (!o.forests.empty()) {
-		rs.forests.clear();
-		for (const std::string &spec : o.forests) {
-			const size_t eq = spec.find('=');
-			int id = -1;
-			try {
-				id = eq == std::string::npos ? -1 : std::stoi(spec.substr(0, eq));
-			} catch (...) {
-			}
-			if (id < 0 || eq + 1 >= spec.size())
-				return failWith("--forest expects OBJ_ID=FILE, got \"" + spec + "\"", kExitUsage);
-			rs.forests[id] = spec.substr(eq + 1);
-		}
+		Expected<std::map<int, std::filesystem::path>> given = parseForestOptions(o.forests);
+		if (!given)
+			return failWith(given.error().message, kExitUsage);
+		rs.forests = *given;
 	}
 	if (rs.sourceUri.empty())
 		return failWith(o.config + ": no [source] uri (or give --source URI)", kExitUsage);
@@ -119,21 +112,9 @@ int runRun(const RunOptions &o)
 	if (rs.boxKind)
 		useBoxKind(*es, *rs.boxKind);
 
-	std::map<int, std::unique_ptr<ObjectModel>> owned;
-	std::map<int, const ObjectModel *> models;
-	for (const auto &[id, file] : rs.forests) {
-		auto m = loadModelFile(file);
-		if (!m)
-			return failWith(m.error().message);
-		if ((*m)->params().objId != id)
-			std::fprintf(stderr, "ihf run: note: %s was trained as object %d, used for %d\n",
-				     file.string().c_str(), (*m)->params().objId, id);
-		if (Status st = prepareModel(**m, *es); !st)
-			return failWith(file.string() + ": " + std::string(st.error().message));
-		growLimitsFor(es->limits, **m); // sized for every model, as ihf estimate does
-		models[id] = m->get();
-		owned[id] = std::move(m.value());
-	}
+	Expected<ForestSet> forests = ForestSet::load(rs.forests, *es, "ihf run");
+	if (!forests)
+		return failWith(forests.error().message);
 
 	// Reconnecting closes and reopens the source: OpenNI2 must not unload
 	// its drivers in between (see OpenNi2Session).
@@ -159,7 +140,7 @@ int runRun(const RunOptions &o)
 
 	PoseEstimator estimator(es->limits);
 	SteadyPacingClock clock;
-	PoseStage stage(models, estimator, es->estimator, **feed, **output, clock,
+	PoseStage stage(forests->models(), estimator, es->estimator, **feed, **output, clock,
 			std::chrono::milliseconds(rs.boxesTimeoutMs));
 	// Tracking follows each object from frame to frame; --vis pictures the
 	// cold estimator's iterations, so it detects every box.

@@ -791,6 +791,7 @@ void growLimitsFor(EstimatorLimits &limits, const ObjectModel &model)
 	limits.maxMeshVertices = std::max(limits.maxMeshVertices, model.renderMesh().vertices.size());
 	limits.maxIbsN = std::max(limits.maxIbsN, model.params().ibs.n);
 	limits.maxIbsPoints = std::max(limits.maxIbsPoints, model.params().ibs.maxPoints);
+	limits.maxHistogramDims = std::max(limits.maxHistogramDims, model.forest().dims);
 }
 
 } // namespace ihf::app

@@ -89,7 +89,8 @@ void useBoxKind(EstimateSettings &settings, BoxKind kind);
 Status prepareModel(ObjectModel &model, const EstimateSettings &settings);
 
 // Grows the estimator's limits to what a prepared model needs (its render
-// mesh, IBS lattice and point budget), so one arena serves every model.
+// mesh, IBS lattice, point budget and HoCP length), so one arena serves
+// every model.
 void growLimitsFor(EstimatorLimits &limits, const ObjectModel &model);
 
 // `ihf run` (config/device.toml). Relative paths in the file (recording:
