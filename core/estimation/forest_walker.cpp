@@ -35,6 +35,35 @@ float squaredDistanceInLanes(const float *h, const T *t, int d, ToFloat toFloat)
 	return acc;
 }
 
+// The same sum over a sparse 8-bit record (forest_view.h): an absent bin
+// contributes h * h, exactly what the dense loop adds for a zero value, so
+// both give the same bits.
+float sparseSquaredDistanceInLanes(const float *h, const uint8_t *record, int d)
+{
+	constexpr float kScale = 1.0f / 255.0f;
+	const uint8_t *bits = record;
+	const uint8_t *value = record + templateBitmapBytes(d);
+	float lane[kLanes] = {};
+	int i = 0;
+	for (; i + kLanes <= d; i += kLanes) {
+		const unsigned present = bits[i / 8];
+		float t[kLanes];
+		for (int l = 0; l < kLanes; ++l)
+			t[l] = (present >> l) & 1u ? static_cast<float>(*value++) * kScale : 0.0f;
+		for (int l = 0; l < kLanes; ++l) {
+			const float e = h[i + l] - t[l];
+			lane[l] += e * e;
+		}
+	}
+	float acc = ((lane[0] + lane[4]) + (lane[1] + lane[5])) + ((lane[2] + lane[6]) + (lane[3] + lane[7]));
+	for (; i < d; ++i) {
+		const float t = (bits[i / 8] >> (i % 8)) & 1u ? static_cast<float>(*value++) * kScale : 0.0f;
+		const float e = h[i] - t;
+		acc += e * e;
+	}
+	return acc;
+}
+
 } // namespace
 
 float templateDistance(const ForestView &forest, const TreeView &tree, uint32_t index,
@@ -46,10 +75,8 @@ float templateDistance(const ForestView &forest, const TreeView &tree, uint32_t 
 		const float *t = static_cast<const float *>(tree.templates) + static_cast<size_t>(index) * d;
 		acc = squaredDistanceInLanes(histogram.data(), t, d, [](float v) { return v; });
 	} else {
-		const uint8_t *t = static_cast<const uint8_t *>(tree.templates) + static_cast<size_t>(index) * d;
-		constexpr float kScale = 1.0f / 255.0f;
-		acc = squaredDistanceInLanes(histogram.data(), t, d,
-					     [](uint8_t v) { return static_cast<float>(v) * kScale; });
+		const uint8_t *record = static_cast<const uint8_t *>(tree.templates) + tree.templateOffsets[index];
+		acc = sparseSquaredDistanceInLanes(histogram.data(), record, d);
 	}
 	return std::sqrt(acc);
 }
@@ -132,7 +159,7 @@ size_t castPartVotes(const ForestView &forest, std::span<const PartCp> cps,
 			continue;
 		const float w = treeWeight / static_cast<float>(leaf.voteCount);
 		for (uint32_t i = 0; i < leaf.voteCount && count < votes.size(); ++i) {
-			Vote v = tree.votes[leaf.voteBegin + i].unpack();
+			Vote v = tree.votes[leaf.voteBegin + i].unpack(forest.rotations);
 			votes[count++] = CastVote{centreMm + v.offset, v.rotation, w};
 		}
 	}
