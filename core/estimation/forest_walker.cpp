@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstring>
 
 namespace ihf {
 
@@ -35,28 +37,39 @@ float squaredDistanceInLanes(const float *h, const T *t, int d, ToFloat toFloat)
 	return acc;
 }
 
-// The same sum over a sparse 8-bit record (forest_view.h): an absent bin
-// contributes h * h, exactly what the dense loop adds for a zero value, so
-// both give the same bits.
+// The same sum over a sparse 8-bit record (forest_view.h): the record is
+// expanded a chunk of bins at a time (zeros, then the present values
+// scattered by their bits, 64 bins to a word so that the scatter loop ends
+// rarely) and summed with the dense loop, so an absent bin adds h * h
+// exactly as a stored zero did and the bits are the same.
 float sparseSquaredDistanceInLanes(const float *h, const uint8_t *record, int d)
 {
+	constexpr int kChunk = 256; // a multiple of 64
 	constexpr float kScale = 1.0f / 255.0f;
 	const uint8_t *bits = record;
 	const uint8_t *value = record + templateBitmapBytes(d);
+	uint8_t dense[kChunk];
 	float lane[kLanes] = {};
-	int i = 0;
-	for (; i + kLanes <= d; i += kLanes) {
-		const unsigned present = bits[i / 8];
-		float t[kLanes];
-		for (int l = 0; l < kLanes; ++l)
-			t[l] = (present >> l) & 1u ? static_cast<float>(*value++) * kScale : 0.0f;
-		for (int l = 0; l < kLanes; ++l) {
-			const float e = h[i + l] - t[l];
-			lane[l] += e * e;
+	const int body = d / kLanes * kLanes;
+	for (int c = 0; c < body; c += kChunk) {
+		const int n = std::min(kChunk, body - c);
+		std::memset(dense, 0, sizeof(dense));
+		for (int w = 0; w < n; w += 64) {
+			uint64_t present = 0;
+			const int bytes = std::min(8, (n - w) / 8);
+			for (int k = 0; k < bytes; ++k)
+				present |= uint64_t{bits[(c + w) / 8 + k]} << (8 * k);
+			for (; present != 0; present &= present - 1)
+				dense[w + std::countr_zero(present)] = *value++;
 		}
+		for (int i = 0; i < n; i += kLanes)
+			for (int l = 0; l < kLanes; ++l) {
+				const float e = h[c + i + l] - static_cast<float>(dense[i + l]) * kScale;
+				lane[l] += e * e;
+			}
 	}
 	float acc = ((lane[0] + lane[4]) + (lane[1] + lane[5])) + ((lane[2] + lane[6]) + (lane[3] + lane[7]));
-	for (; i < d; ++i) {
+	for (int i = body; i < d; ++i) {
 		const float t = (bits[i / 8] >> (i % 8)) & 1u ? static_cast<float>(*value++) * kScale : 0.0f;
 		const float e = h[i] - t;
 		acc += e * e;

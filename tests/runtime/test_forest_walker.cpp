@@ -58,7 +58,7 @@ TEST(ForestWalker, ReusedHistogramsCastTheVeryVotesOfRecomputedOnes)
 // dense 8-bit values it stands for, which the file used to store.
 TEST(ForestWalker, TemplateDistanceIsTheL2DistanceForEveryLengthAndEncoding)
 {
-	for (int dims : {1, 7, 8, 13, 64, 256, 259}) {
+	for (int dims : {1, 7, 8, 13, 64, 256, 259, 520}) {
 		std::vector<float> hist(static_cast<size_t>(dims)), floats(static_cast<size_t>(2 * dims));
 		std::vector<uint8_t> bytes(static_cast<size_t>(2 * dims));
 		for (int i = 0; i < 2 * dims; ++i) {
