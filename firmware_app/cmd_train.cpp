@@ -107,6 +107,13 @@ int runTrain(const TrainOptions &o)
 	s.params.trainSamples = static_cast<int>(set->samples.size());
 	s.params.trainSeconds = std::chrono::duration<double>(t2 - t0).count();
 	ForestStorage storage(forest, s.encoding);
+	if (!storage.error().empty()) {
+		std::fprintf(stderr, "ihf train: %s\n", storage.error().c_str());
+		return kExitFailure;
+	}
+	// Nothing after training reads vertex normals (rendering and the view
+	// templates use the faces): the file leaves them out.
+	mesh->normals.clear();
 	if (auto st = saveModelFile(o.out, s.params, *mesh, storage.view()); !st) {
 		std::fprintf(stderr, "ihf train: %s\n", st.error().message.c_str());
 		return kExitFailure;

@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstring>
 
 namespace ihf {
 
@@ -35,6 +37,46 @@ float squaredDistanceInLanes(const float *h, const T *t, int d, ToFloat toFloat)
 	return acc;
 }
 
+// The same sum over a sparse 8-bit record (forest_view.h): the record is
+// expanded a chunk of bins at a time (zeros, then the present values
+// scattered by their bits, 64 bins to a word so that the scatter loop ends
+// rarely) and summed with the dense loop, so an absent bin adds h * h
+// exactly as a stored zero did and the bits are the same.
+float sparseSquaredDistanceInLanes(const float *h, const uint8_t *record, int d)
+{
+	constexpr int kChunk = 256; // a multiple of 64
+	constexpr float kScale = 1.0f / 255.0f;
+	const uint8_t *bits = record;
+	const uint8_t *value = record + templateBitmapBytes(d);
+	uint8_t dense[kChunk];
+	float lane[kLanes] = {};
+	const int body = d / kLanes * kLanes;
+	for (int c = 0; c < body; c += kChunk) {
+		const int n = std::min(kChunk, body - c);
+		std::memset(dense, 0, sizeof(dense));
+		for (int w = 0; w < n; w += 64) {
+			uint64_t present = 0;
+			const int bytes = std::min(8, (n - w) / 8);
+			for (int k = 0; k < bytes; ++k)
+				present |= uint64_t{bits[(c + w) / 8 + k]} << (8 * k);
+			for (; present != 0; present &= present - 1)
+				dense[w + std::countr_zero(present)] = *value++;
+		}
+		for (int i = 0; i < n; i += kLanes)
+			for (int l = 0; l < kLanes; ++l) {
+				const float e = h[c + i + l] - static_cast<float>(dense[i + l]) * kScale;
+				lane[l] += e * e;
+			}
+	}
+	float acc = ((lane[0] + lane[4]) + (lane[1] + lane[5])) + ((lane[2] + lane[6]) + (lane[3] + lane[7]));
+	for (int i = body; i < d; ++i) {
+		const float t = (bits[i / 8] >> (i % 8)) & 1u ? static_cast<float>(*value++) * kScale : 0.0f;
+		const float e = h[i] - t;
+		acc += e * e;
+	}
+	return acc;
+}
+
 } // namespace
 
 float templateDistance(const ForestView &forest, const TreeView &tree, uint32_t index,
@@ -46,10 +88,8 @@ float templateDistance(const ForestView &forest, const TreeView &tree, uint32_t 
 		const float *t = static_cast<const float *>(tree.templates) + static_cast<size_t>(index) * d;
 		acc = squaredDistanceInLanes(histogram.data(), t, d, [](float v) { return v; });
 	} else {
-		const uint8_t *t = static_cast<const uint8_t *>(tree.templates) + static_cast<size_t>(index) * d;
-		constexpr float kScale = 1.0f / 255.0f;
-		acc = squaredDistanceInLanes(histogram.data(), t, d,
-					     [](uint8_t v) { return static_cast<float>(v) * kScale; });
+		const uint8_t *record = static_cast<const uint8_t *>(tree.templates) + tree.templateOffsets[index];
+		acc = sparseSquaredDistanceInLanes(histogram.data(), record, d);
 	}
 	return std::sqrt(acc);
 }
@@ -132,7 +172,7 @@ size_t castPartVotes(const ForestView &forest, std::span<const PartCp> cps,
 			continue;
 		const float w = treeWeight / static_cast<float>(leaf.voteCount);
 		for (uint32_t i = 0; i < leaf.voteCount && count < votes.size(); ++i) {
-			Vote v = tree.votes[leaf.voteBegin + i].unpack();
+			Vote v = tree.votes[leaf.voteBegin + i].unpack(forest.rotations);
 			votes[count++] = CastVote{centreMm + v.offset, v.rotation, w};
 		}
 	}

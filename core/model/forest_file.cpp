@@ -50,6 +50,7 @@ std::string describe(const ForestFileSection &s)
 	switch (s.type) {
 	case SectionType::kNodes:
 	case SectionType::kTemplates:
+	case SectionType::kTemplateOffsets:
 	case SectionType::kVotes:
 		d += " of tree " + std::to_string(s.tree);
 		break;
@@ -61,7 +62,8 @@ std::string describe(const ForestFileSection &s)
 
 bool isTreeSection(SectionType t)
 {
-	return t == SectionType::kNodes || t == SectionType::kTemplates || t == SectionType::kVotes;
+	return t == SectionType::kNodes || t == SectionType::kTemplates ||
+	       t == SectionType::kTemplateOffsets || t == SectionType::kVotes;
 }
 
 bool isKnown(SectionType t)
@@ -166,12 +168,12 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const fs::path &path)
 	sum.version = getU32(base + kOffVersion);
 	if (sum.version != kForestFileVersion)
 		return makeError(Errc::kUnsupported,
-				 name + ": forest file format version " + std::to_string(sum.version) +
-					 "; this build reads version " +
-					 std::to_string(kForestFileVersion));
+				 name + ": forest file version " + std::to_string(sum.version) +
+					 "; this ihf reads " + std::to_string(kForestFileVersion) +
+					 ": retrain with ihf train");
 	if (getU32(base + kOffHeaderSize) != kHeaderSize)
 		return corrupt("header size " + std::to_string(getU32(base + kOffHeaderSize)) +
-			       ", version 1 has " + std::to_string(kHeaderSize));
+			       ", version 2 has " + std::to_string(kHeaderSize));
 	std::array<std::byte, kHeaderSize> header;
 	std::memcpy(header.data(), base, kHeaderSize);
 	sum.headerCrc = getU32(base + kOffHeaderCrc);
@@ -187,7 +189,7 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const fs::path &path)
 			       std::to_string(sum.fileSize) + " (trailing data)");
 	if (getU32(base + kOffEntrySize) != kEntrySize)
 		return corrupt("section entry size " + std::to_string(getU32(base + kOffEntrySize)) +
-			       ", version 1 has " + std::to_string(kEntrySize));
+			       ", version 2 has " + std::to_string(kEntrySize));
 	const uint64_t sectionCount = getU32(base + kOffSectionCount);
 	const uint64_t tableEnd = kHeaderSize + sectionCount * kEntrySize;
 	if (tableEnd > sum.fileSize)
@@ -241,7 +243,7 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const fs::path &path)
 		return it == found.end() ? nullptr : it->second;
 	};
 	for (SectionType t : {SectionType::kParams, SectionType::kForest, SectionType::kMeshVertices,
-			      SectionType::kMeshFaces})
+			      SectionType::kMeshFaces, SectionType::kRotations})
 		if (!section(t))
 			return corrupt(std::string("no ") + sectionTypeName(t) + " section");
 	auto expectElement = [&](const ForestFileSection &s, uint64_t size) -> std::optional<Error> {
@@ -295,7 +297,9 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const fs::path &path)
 	const ForestFileSection *normSec = section(SectionType::kMeshNormals);
 	if (auto e = expectElement(vertSec, 12))
 		return *e;
-	if (auto e = expectElement(faceSec, 12))
+	// Faces are u16 x 3 when every vertex index fits 16 bits, else u32 x 3.
+	const bool shortFaces = vertSec.elementCount <= kMaxShortFaceVertices;
+	if (auto e = expectElement(faceSec, shortFaces ? 6 : 12))
 		return *e;
 	if (normSec) {
 		if (auto e = expectElement(*normSec, 12))
@@ -308,7 +312,16 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const fs::path &path)
 	Mesh &mesh = model->mesh_;
 	readVectors(base + vertSec.offset, vertSec.elementCount, mesh.vertices);
 	mesh.faces.resize(faceSec.elementCount);
-	std::memcpy(mesh.faces.data(), base + faceSec.offset, faceSec.size);
+	if (shortFaces) {
+		for (size_t f = 0; f < mesh.faces.size(); ++f)
+			for (size_t k = 0; k < 3; ++k) {
+				uint16_t v;
+				std::memcpy(&v, base + faceSec.offset + 6 * f + 2 * k, sizeof(v));
+				mesh.faces[f][k] = v;
+			}
+	} else {
+		std::memcpy(mesh.faces.data(), base + faceSec.offset, faceSec.size);
+	}
 	for (size_t f = 0; f < mesh.faces.size(); ++f)
 		for (uint32_t v : mesh.faces[f])
 			if (v >= mesh.vertices.size())
@@ -318,6 +331,14 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const fs::path &path)
 	if (normSec) {
 		readVectors(base + normSec->offset, normSec->elementCount, mesh.normals);
 	}
+	const ForestFileSection &rotSec = *section(SectionType::kRotations);
+	if (auto e = expectElement(rotSec, sizeof(PackedRotation)))
+		return *e;
+	if (rotSec.elementCount > kMaxForestRotations)
+		return corrupt("ROTATIONS: " + std::to_string(rotSec.elementCount) +
+			       " rotations, a vote indexes at most " +
+			       std::to_string(kMaxForestRotations));
+	sum.rotations = rotSec.elementCount;
 	sum.vertices = mesh.vertices.size();
 	sum.faces = mesh.faces.size();
 	sum.normals = normSec != nullptr;
@@ -333,6 +354,7 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const fs::path &path)
 	for (uint32_t t = 0; t < treeCount; ++t) {
 		const ForestFileSection *nodes = section(SectionType::kNodes, t);
 		const ForestFileSection *templ = section(SectionType::kTemplates, t);
+		const ForestFileSection *offsets = section(SectionType::kTemplateOffsets, t);
 		const ForestFileSection *votes = section(SectionType::kVotes, t);
 		for (auto [sec, type] : {std::pair{nodes, SectionType::kNodes},
 					 std::pair{templ, SectionType::kTemplates},
@@ -340,6 +362,12 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const fs::path &path)
 			if (!sec)
 				return corrupt(std::string("no ") + sectionTypeName(type) +
 					       " section for tree " + std::to_string(t));
+		const bool sparse = sum.encoding == TemplateEncoding::kUint8;
+		if (sparse && !offsets)
+			return corrupt("no TEMPLATE_OFFSETS section for tree " + std::to_string(t) +
+				       " (uint8 templates)");
+		if (!sparse && offsets)
+			return corrupt(describe(*offsets) + ": float32 templates have no offsets");
 		if (auto e = expectElement(*nodes, sizeof(TreeNode)))
 			return *e;
 		if (auto e = expectElement(*templ, perTemplate))
@@ -353,12 +381,31 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const fs::path &path)
 		view.templates = base + templ->offset;
 		view.votes = {reinterpret_cast<const PackedVote *>(base + votes->offset),
 			      votes->elementCount};
+		uint64_t templateCount = templ->elementCount;
+		uint64_t bins = templateCount * dims;
+		if (sparse) {
+			if (auto e = expectElement(*offsets, sizeof(uint32_t)))
+				return *e;
+			view.templateOffsets = {reinterpret_cast<const uint32_t *>(base + offsets->offset),
+						offsets->elementCount};
+			templateCount = offsets->elementCount;
+			bins = 0;
+			if (auto bad = checkSparseTemplates(reinterpret_cast<const uint8_t *>(view.templates),
+							    templ->size, view.templateOffsets,
+							    sum.dims, bins))
+				return corrupt("TEMPLATES of tree " + std::to_string(t) + ": " + *bad);
+		}
+		if (auto bad = checkVoteRotations(view.votes, sum.rotations))
+			return corrupt("VOTES of tree " + std::to_string(t) + ": " + *bad);
 		ForestTreeStats stats;
-		if (auto bad = checkTree(view.nodes, templ->elementCount, votes->elementCount, stats))
+		if (auto bad = checkTree(view.nodes, templateCount, votes->elementCount, stats))
 			return corrupt("tree " + std::to_string(t) + " " + *bad);
+		stats.templateBins = bins;
 		sum.trees.push_back(stats);
 		model->trees_.push_back(view);
 	}
+	model->view_.rotations = {reinterpret_cast<const PackedRotation *>(base + rotSec.offset),
+				  rotSec.elementCount};
 	model->view_.dims = sum.dims;
 	model->view_.encoding = sum.encoding;
 	model->view_.trees = model->trees_;

@@ -5,10 +5,10 @@
 // forest) in a versioned, checksummed container that inference maps and uses
 // in place. All integers and floats are little-endian.
 //
-// Layout, version 1:
+// Layout, version 2:
 //   header, 64 bytes:
 //     0  char[8] magic "IHFOREST"
-//     8  u32 version (1)
+//     8  u32 version (2)
 //     12 u32 endianness marker 0x01020304 (bytes 04 03 02 01)
 //     16 u32 header size (64)
 //     20 u32 section count
@@ -27,18 +27,31 @@
 //     PARAMS         ModelParams as JSON text (model_params_json.h), element size 1
 //     FOREST         one 32-byte record {u32 dims, u32 encoding, u32 tree count, reserved}
 //     MESH_VERTICES  float32 x, y, z per vertex (mm)
-//     MESH_FACES     uint32 x 3 per face
-//     MESH_NORMALS   float32 x 3 per vertex (optional)
-//     per tree t:  NODES (TreeNode, 32 bytes), TEMPLATES (one element per
-//                  split template: dims float32 or dims uint8 per the encoding),
-//                  VOTES (PackedVote, 16 bytes)
+//     MESH_FACES     uint16 x 3 per face when the mesh has at most 65536
+//                    vertices, else uint32 x 3
+//     MESH_NORMALS   float32 x 3 per vertex (optional; inference reads none,
+//                    so ihf train leaves them out)
+//     ROTATIONS      the forest's distinct vote rotations (PackedRotation,
+//                    int16 x, y, z, w * 32767; at most 65536)
+//     per tree t:  NODES (TreeNode, 32 bytes),
+//                  TEMPLATES float32 encoding: one element of dims float32
+//                            per split template; uint8 encoding: element
+//                            size 1, the sparse records (forest_view.h) of
+//                            the templates back to back,
+//                  TEMPLATE_OFFSETS (uint8 encoding only) u32 byte offset of
+//                            each template's record in TEMPLATES,
+//                  VOTES (PackedVote, 8 bytes: int16 offset[3] mm, u16
+//                         rotation index)
 //
 // Loading validates everything once (header, CRCs, bounds, every node: a
 // leaf has both children -1, a split has both children after itself and
 // inside the tree, its template exists, a leaf's votes lie inside the tree's
-// votes; depth <= kMaxTreeDepth; face indices; dims == hocpDimension), so a
-// tree walk needs no checks and visits at most kMaxTreeDepth nodes.
-// Big-endian hosts are refused (the payload is used in place).
+// votes; every sparse record inside TEMPLATES and the next one starting where
+// it ends; every vote's rotation inside ROTATIONS; depth <= kMaxTreeDepth;
+// face indices; dims == hocpDimension), so a tree walk needs no checks and
+// visits at most kMaxTreeDepth nodes. Big-endian hosts are refused (the
+// payload is used in place). Files of another version are refused with a
+// message naming both versions.
 
 #include <cstdint>
 #include <filesystem>
@@ -52,7 +65,7 @@
 
 namespace ihf {
 
-inline constexpr uint32_t kForestFileVersion = 1;
+inline constexpr uint32_t kForestFileVersion = 2;
 inline constexpr int kMaxTreeDepth = 64; // nodes on the longest root-to-leaf path
 
 enum class SectionType : uint32_t {
@@ -61,9 +74,11 @@ enum class SectionType : uint32_t {
 	kMeshVertices = 3,
 	kMeshFaces = 4,
 	kMeshNormals = 5,
+	kRotations = 6,
 	kNodes = 16,
 	kTemplates = 17,
 	kVotes = 18,
+	kTemplateOffsets = 19,
 };
 
 // "PARAMS", "NODES", ...; "UNKNOWN" for other values.
@@ -84,6 +99,7 @@ struct ForestTreeStats {
 	uint32_t leaves = 0;
 	uint32_t templates = 0;
 	uint32_t votes = 0;
+	uint64_t templateBins = 0; // stored template values (uint8: the non-zero bins)
 	int depth = 0; // nodes on the longest root-to-leaf path
 };
 
@@ -101,6 +117,7 @@ struct ForestFileSummary {
 	size_t vertices = 0;
 	size_t faces = 0;
 	bool normals = false;
+	uint32_t rotations = 0;
 	ModelParams params;
 	std::string paramsJson; // the PARAMS section as stored
 };
@@ -149,8 +166,9 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const std::filesystem::path
 // Loads (fully validated) and returns the summary.
 Expected<ForestFileSummary> summariseModelFile(const std::filesystem::path &path);
 
-// Human-readable summary: header, section table, forest and per-tree
-// statistics, mesh, parameters.
+// Human-readable summary: header, section table, bytes by part of the model
+// (mesh, nodes, templates, votes, the rest), forest and per-tree statistics,
+// mesh, parameters.
 std::string formatForestFileSummary(const ForestFileSummary &summary);
 
 } // namespace ihf

@@ -2,6 +2,7 @@
 #include "core/model/forest_file_format.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <vector>
 
@@ -17,6 +18,8 @@ const char *sectionTypeName(SectionType type)
 	case SectionType::kMeshVertices: return "MESH_VERTICES";
 	case SectionType::kMeshFaces: return "MESH_FACES";
 	case SectionType::kMeshNormals: return "MESH_NORMALS";
+	case SectionType::kRotations: return "ROTATIONS";
+	case SectionType::kTemplateOffsets: return "TEMPLATE_OFFSETS";
 	case SectionType::kNodes: return "NODES";
 	case SectionType::kTemplates: return "TEMPLATES";
 	case SectionType::kVotes: return "VOTES";
@@ -68,7 +71,50 @@ ForestFileSection decodeEntry(const std::byte *in)
 
 uint64_t templateBytes(uint64_t dims, TemplateEncoding encoding)
 {
-	return dims * (encoding == TemplateEncoding::kFloat32 ? sizeof(float) : sizeof(uint8_t));
+	return encoding == TemplateEncoding::kFloat32 ? dims * sizeof(float) : 1;
+}
+
+std::optional<std::string> checkSparseTemplates(const uint8_t *data, uint64_t size,
+						std::span<const uint32_t> offsets, int dims,
+						uint64_t &bins)
+{
+	const uint64_t bitmap = templateBitmapBytes(dims);
+	uint64_t at = 0;
+	for (size_t k = 0; k < offsets.size(); ++k) {
+		const std::string where = "template " + std::to_string(k) + ": ";
+		if (offsets[k] != at)
+			return where + "record at byte " + std::to_string(offsets[k]) + ", expected " +
+			       std::to_string(at) + " (records are back to back)";
+		if (bitmap > size - at)
+			return where + "bitmap runs past the end of the templates (" +
+			       std::to_string(size) + " bytes)";
+		uint64_t present = 0;
+		for (uint64_t b = 0; b < bitmap; ++b)
+			present += static_cast<uint64_t>(std::popcount(data[at + b]));
+		const unsigned tail = static_cast<unsigned>(dims % 8);
+		if (tail != 0 && (data[at + bitmap - 1] >> tail) != 0)
+			return where + "bits set past the " + std::to_string(dims) + " bins";
+		if (present > size - at - bitmap)
+			return where + std::to_string(present) +
+			       " values run past the end of the templates (" + std::to_string(size) +
+			       " bytes)";
+		at += bitmap + present;
+		bins += present;
+	}
+	if (at != size)
+		return std::to_string(size - at) + " bytes of templates after the last record";
+	return std::nullopt;
+}
+
+std::optional<std::string> checkVoteRotations(std::span<const PackedVote> votes,
+					      uint64_t rotationCount)
+{
+	for (size_t v = 0; v < votes.size(); ++v)
+		if (votes[v].rotation >= rotationCount)
+			return "vote " + std::to_string(v) + ": rotation " +
+			       std::to_string(votes[v].rotation) + " out of range (" +
+			       std::to_string(rotationCount) + " rotations)";
+	return std::nullopt;
 }
 
 std::optional<std::string> checkTree(std::span<const TreeNode> nodes, uint64_t templateCount,

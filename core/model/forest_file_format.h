@@ -23,6 +23,8 @@ inline constexpr uint32_t kHeaderSize = 64;
 inline constexpr uint32_t kEntrySize = 48;
 inline constexpr uint64_t kAlignment = 64;
 inline constexpr uint32_t kForestRecordSize = 32;
+// Meshes of at most this many vertices store their faces as u16 x 3.
+inline constexpr uint64_t kMaxShortFaceVertices = uint64_t{1} << 16;
 
 // Header field offsets.
 inline constexpr size_t kOffVersion = 8;
@@ -76,8 +78,22 @@ uint32_t crc32Of(const void *data, uint64_t size);
 void encodeEntry(const ForestFileSection &s, std::byte *out);
 ForestFileSection decodeEntry(const std::byte *in);
 
-// Bytes per template of a forest: dims entries of the encoding's size.
+// Element size of a TEMPLATES section: dims floats per template (float32),
+// 1 (uint8: variable-length sparse records).
 uint64_t templateBytes(uint64_t dims, TemplateEncoding encoding);
+
+// Checks a tree's sparse 8-bit templates: record k starts at offsets[k], the
+// first at 0 and each next where the previous ends (bitmap plus one value per
+// set bit), the last ending at size; no bit set past dims. Adds the stored
+// values to bins. Returns what is wrong, starting with "template K: ".
+std::optional<std::string> checkSparseTemplates(const uint8_t *data, uint64_t size,
+						std::span<const uint32_t> offsets, int dims,
+						uint64_t &bins);
+
+// Checks that every vote's rotation index is below rotationCount; returns
+// what is wrong, starting with "vote V: ".
+std::optional<std::string> checkVoteRotations(std::span<const PackedVote> votes,
+					      uint64_t rotationCount);
 
 // Checks one tree against the rules in forest_file.h and fills its
 // statistics (templates is set to templateCount). Returns what is wrong,

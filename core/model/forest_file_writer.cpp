@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cerrno>
 #include <cstring>
 #include <limits>
@@ -104,9 +105,24 @@ Status saveModelFile(const fs::path &path, const ModelParams &params, const Mesh
 	add(SectionType::kParams, 0, json->data(), 1, json->size());
 	add(SectionType::kForest, 0, forestRecord.data(), kForestRecordSize, 1);
 	add(SectionType::kMeshVertices, 0, mesh.vertices.data(), 12, mesh.vertices.size());
-	add(SectionType::kMeshFaces, 0, mesh.faces.data(), 12, mesh.faces.size());
+	std::vector<uint16_t> shortFaces;
+	if (mesh.vertices.size() <= kMaxShortFaceVertices) {
+		shortFaces.reserve(3 * mesh.faces.size());
+		for (const auto &face : mesh.faces)
+			for (uint32_t v : face)
+				shortFaces.push_back(static_cast<uint16_t>(v));
+		add(SectionType::kMeshFaces, 0, shortFaces.data(), 6, mesh.faces.size());
+	} else {
+		add(SectionType::kMeshFaces, 0, mesh.faces.data(), 12, mesh.faces.size());
+	}
 	if (!mesh.normals.empty())
 		add(SectionType::kMeshNormals, 0, mesh.normals.data(), 12, mesh.normals.size());
+	if (forest.rotations.size() > kMaxForestRotations)
+		return fault(path, std::to_string(forest.rotations.size()) +
+					   " distinct vote rotations, a vote indexes at most " +
+					   std::to_string(kMaxForestRotations));
+	add(SectionType::kRotations, 0, forest.rotations.data(), sizeof(PackedRotation),
+	    forest.rotations.size());
 
 	const uint64_t perTemplate = templateBytes(forest.dims, forest.encoding);
 	if (perTemplate > kMaxCount)
@@ -116,19 +132,53 @@ Status saveModelFile(const fs::path &path, const ModelParams &params, const Mesh
 		const std::string at = "tree " + std::to_string(t) + ": ";
 		if (tree.nodes.size() > kMaxCount || tree.votes.size() > kMaxCount)
 			return fault(path, at + "too many nodes or votes");
-		// A view carries no template count: the splits tell how many exist.
+		const bool sparse = forest.encoding == TemplateEncoding::kUint8;
+		// A dense view carries no template count: the splits tell how many
+		// exist. A sparse one has an offset per template.
 		uint64_t templates = 0;
 		for (const TreeNode &node : tree.nodes)
 			if (!node.isLeaf())
 				templates = std::max<uint64_t>(templates, uint64_t{node.templateIndex} + 1);
+		uint64_t templateSize = templates * perTemplate;
+		if ((templates > 0 || !tree.templateOffsets.empty()) && !tree.templates)
+			return fault(path, at + "no template data");
+		if (sparse) {
+			if (tree.templateOffsets.size() < templates)
+				return fault(path, at + std::to_string(tree.templateOffsets.size()) +
+							   " template offsets for " +
+							   std::to_string(templates) + " templates");
+			templates = tree.templateOffsets.size();
+			// The records' length follows from their bitmaps: walk them.
+			templateSize = 0;
+			for (uint32_t offset : tree.templateOffsets) {
+				if (offset != templateSize)
+					return fault(path, at + "template records are not back to back");
+				uint64_t present = 0;
+				const auto *bits = static_cast<const uint8_t *>(tree.templates) + offset;
+				for (size_t b = 0; b < templateBitmapBytes(forest.dims); ++b)
+					present += static_cast<uint64_t>(std::popcount(bits[b]));
+				templateSize += templateBitmapBytes(forest.dims) + present;
+			}
+			if (templateSize > kMaxCount)
+				return fault(path, at + "templates too large for the format");
+			uint64_t bins = 0;
+			if (auto bad = checkSparseTemplates(static_cast<const uint8_t *>(tree.templates),
+							    templateSize, tree.templateOffsets,
+							    forest.dims, bins))
+				return fault(path, at + *bad);
+		}
+		if (auto bad = checkVoteRotations(tree.votes, forest.rotations.size()))
+			return fault(path, at + *bad);
 		ForestTreeStats stats;
 		if (auto bad = checkTree(tree.nodes, templates, tree.votes.size(), stats))
 			return fault(path, "tree " + std::to_string(t) + " " + *bad);
-		if (templates > 0 && !tree.templates)
-			return fault(path, at + "no template data");
 		const uint32_t tree32 = static_cast<uint32_t>(t);
 		add(SectionType::kNodes, tree32, tree.nodes.data(), sizeof(TreeNode), tree.nodes.size());
-		add(SectionType::kTemplates, tree32, tree.templates, perTemplate, templates);
+		add(SectionType::kTemplates, tree32, tree.templates, sparse ? 1 : perTemplate,
+		    sparse ? templateSize : templates);
+		if (sparse)
+			add(SectionType::kTemplateOffsets, tree32, tree.templateOffsets.data(),
+			    sizeof(uint32_t), tree.templateOffsets.size());
 		add(SectionType::kVotes, tree32, tree.votes.data(), sizeof(PackedVote),
 		    tree.votes.size());
 	}

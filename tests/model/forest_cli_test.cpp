@@ -45,22 +45,24 @@ TEST_F(ForestCliTest, InfoPrintsTheSummary)
 	auto r = test::runIhf("forest info " + q(file_));
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	const std::string &out = r.output;
-	EXPECT_NE(out.find("format version 1, " + std::to_string(fs::file_size(file_)) + " bytes"),
+	EXPECT_NE(out.find("format version 2, " + std::to_string(fs::file_size(file_)) + " bytes"),
 		  std::string::npos)
 		<< out;
 	EXPECT_NE(out.find("forest: 4 trees, dims 96, templates uint8"), std::string::npos) << out;
 	EXPECT_NE(out.find("mesh: 8 vertices, 12 faces, with normals"), std::string::npos) << out;
 	EXPECT_NE(out.find("\"weighting\": \"sign_split\""), std::string::npos) << out;
 	for (const char *section : {"PARAMS", "FOREST", "MESH_VERTICES", "MESH_FACES",
-				    "MESH_NORMALS", "NODES", "TEMPLATES", "VOTES"})
+				    "MESH_NORMALS", "ROTATIONS", "NODES", "TEMPLATES", "TEMPLATE_OFFSETS",
+				    "VOTES", "bytes by part:"})
 		EXPECT_NE(out.find(section), std::string::npos) << section;
 
-	// Per-tree row: index, nodes, leaves, templates, votes, depth.
+	// Per-tree row: index, nodes, leaves, templates, votes, depth (then the
+	// stored template bins).
 	size_t nodes = 0, votes = 0;
 	for (size_t t = 0; t < forest_.trees.size(); ++t) {
 		const HoughTree &tree = forest_.trees[t];
 		char row[128];
-		std::snprintf(row, sizeof(row), "  %4zu %10zu %10zu %10zu %10zu %6d\n", t,
+		std::snprintf(row, sizeof(row), "  %4zu %10zu %10zu %10zu %10zu %6d ", t,
 			      tree.nodes.size(), tree.leafCount(), tree.templates.size() / 96,
 			      tree.votes.size(), tree.depth());
 		EXPECT_NE(out.find(row), std::string::npos) << "missing row: " << row << out;
@@ -91,6 +93,18 @@ TEST_F(ForestCliTest, CorruptFileExitsOne)
 	EXPECT_EQ(r.exitCode, 1) << r.output;
 	EXPECT_NE(r.output.find("ihf forest info: " + bad.string()), std::string::npos) << r.output;
 	EXPECT_NE(r.output.find("(VOTES of tree 3): CRC mismatch"), std::string::npos) << r.output;
+
+	// A file of the previous format version: refused, saying what to do.
+	b = test::readBytes(file_);
+	test::wr32(b, 8, 1);
+	test::resealCrcs(b);
+	const fs::path old = dir_ / "v1.ihf";
+	test::writeBytes(old, b);
+	r = test::runIhf("forest info " + q(old));
+	EXPECT_EQ(r.exitCode, 1) << r.output;
+	EXPECT_NE(r.output.find("forest file version 1; this ihf reads 2: retrain with ihf train"),
+		  std::string::npos)
+		<< r.output;
 
 	r = test::runIhf("forest info " + q(dir_ / "missing.ihf"));
 	EXPECT_EQ(r.exitCode, 1) << r.output;

@@ -3,8 +3,10 @@
 // template encodings, the view used in place inside the mapping, and every
 // kind of damage refused with a message naming the file and the fault.
 
+#include <cmath>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -80,7 +82,7 @@ TEST_F(ForestFileTest, LayoutFollowsTheSpec)
 	const Bytes b = test::readBytes(file);
 	ASSERT_GE(b.size(), 64u);
 	EXPECT_EQ(std::string(b.begin(), b.begin() + 8), "IHFOREST");
-	EXPECT_EQ(test::rd32(b, 8), 1u); // version
+	EXPECT_EQ(test::rd32(b, 8), 2u); // version
 	// Endianness marker 0x01020304 stored little-endian.
 	EXPECT_EQ(b[12], 0x04);
 	EXPECT_EQ(b[13], 0x03);
@@ -93,8 +95,9 @@ TEST_F(ForestFileTest, LayoutFollowsTheSpec)
 	EXPECT_EQ(test::rd32(b, 32), test::crcOf(h.data(), 64));
 
 	const auto entries = test::rawEntries(b);
-	// PARAMS, FOREST, vertices, faces, normals, 3 sections per tree.
-	ASSERT_EQ(entries.size(), 5u + 3u * forest_.trees.size());
+	// PARAMS, FOREST, vertices, faces, normals, rotations, 4 sections per
+	// tree (uint8 templates have offsets).
+	ASSERT_EQ(entries.size(), 6u + 4u * forest_.trees.size());
 	EXPECT_EQ(test::rd32(b, 36), test::crcOf(b.data() + 64, 48 * entries.size()));
 	for (const auto &e : entries) {
 		EXPECT_EQ(e.offset % 64, 0u);
@@ -106,13 +109,34 @@ TEST_F(ForestFileTest, LayoutFollowsTheSpec)
 		const HoughTree &tree = forest_.trees[t];
 		const auto *nodes = test::findEntry(entries, test::kRawNodes, t);
 		const auto *templ = test::findEntry(entries, test::kRawTemplates, t);
+		const auto *offsets = test::findEntry(entries, test::kRawTemplateOffsets, t);
 		const auto *votes = test::findEntry(entries, test::kRawVotes, t);
-		ASSERT_TRUE(nodes && templ && votes);
+		ASSERT_TRUE(nodes && templ && offsets && votes);
 		EXPECT_EQ(nodes->elementSize, 32u);
 		EXPECT_EQ(nodes->elementCount, tree.nodes.size());
-		EXPECT_EQ(templ->elementSize, 96u); // dims uint8 per template
-		EXPECT_EQ(templ->elementCount, tree.templates.size() / 96);
-		EXPECT_EQ(votes->elementSize, 16u);
+		// Sparse records: a 12-byte bitmap (96 bins) and the non-zero values.
+		const size_t templates = tree.templates.size() / 96;
+		size_t recordBytes = 0;
+		for (size_t k = 0; k < templates; ++k) {
+			const uint32_t at = test::rd32(b, offsets->offset + 4 * k);
+			EXPECT_EQ(at, recordBytes) << "template " << k;
+			size_t present = 0;
+			for (size_t i = 0; i < 96; ++i) {
+				const uint8_t q = quantiseBin(tree.templates[96 * k + i]);
+				const bool bit = (b[templ->offset + at + i / 8] >> (i % 8)) & 1;
+				EXPECT_EQ(bit, q != 0) << "template " << k << " bin " << i;
+				if (q != 0 && bit)
+					EXPECT_EQ(b[templ->offset + at + 12 + present], q);
+				present += q != 0;
+			}
+			recordBytes += 12 + present;
+		}
+		EXPECT_EQ(templ->elementSize, 1u);
+		EXPECT_EQ(templ->elementCount, recordBytes);
+		EXPECT_LT(recordBytes, tree.templates.size()); // smaller than dense uint8
+		EXPECT_EQ(offsets->elementSize, 4u);
+		EXPECT_EQ(offsets->elementCount, templates);
+		EXPECT_EQ(votes->elementSize, 8u);
 		EXPECT_EQ(votes->elementCount, tree.votes.size());
 		// A node record is the 32-byte little-endian TreeNode.
 		const TreeNode &root = tree.nodes[0];
@@ -124,6 +148,12 @@ TEST_F(ForestFileTest, LayoutFollowsTheSpec)
 	float x0;
 	std::memcpy(&x0, b.data() + verts->offset, 4);
 	EXPECT_EQ(x0, mesh_.vertices[0].x());
+	// Faces of a mesh with at most 65536 vertices are u16 x 3.
+	const auto *faces = test::findEntry(entries, test::kRawFaces);
+	ASSERT_TRUE(faces);
+	EXPECT_EQ(faces->elementSize, 6u);
+	EXPECT_EQ(faces->elementCount, mesh_.faces.size());
+	EXPECT_EQ(b[faces->offset + 6 + 2] | (b[faces->offset + 6 + 3] << 8), mesh_.faces[1][1]);
 }
 
 void expectRoundTrip(const HoughForest &forest, TemplateEncoding enc, const ObjectModel &model,
@@ -156,22 +186,26 @@ void expectRoundTrip(const HoughForest &forest, TemplateEncoding enc, const Obje
 					      src.templates.size() * sizeof(float)),
 				  0);
 		} else {
-			const auto *q = static_cast<const uint8_t *>(tv.templates);
+			const size_t dims = static_cast<size_t>(forest.dims);
+			ASSERT_EQ(tv.templateOffsets.size(), src.templates.size() / dims);
+			std::vector<uint8_t> dense(dims);
 			size_t bad = 0;
-			for (size_t i = 0; i < src.templates.size(); ++i)
-				bad += q[i] != quantiseBin(src.templates[i]);
+			for (size_t k = 0; k < tv.templateOffsets.size(); ++k) {
+				expandSparseTemplate(static_cast<const uint8_t *>(tv.templates) +
+							     tv.templateOffsets[k],
+						     dense);
+				for (size_t i = 0; i < dims; ++i)
+					bad += dense[i] != quantiseBin(src.templates[k * dims + i]);
+			}
 			EXPECT_EQ(bad, 0u) << "tree " << t;
 		}
 		ASSERT_EQ(tv.votes.size(), src.votes.size());
 		for (size_t i = 0; i < src.votes.size(); ++i) {
-			const PackedVote want = PackedVote::pack(src.votes[i]);
 			const PackedVote &got = tv.votes[i];
 			for (int k = 0; k < 3; ++k)
-				EXPECT_EQ(got.offset[k], want.offset[k]);
-			for (int k = 0; k < 4; ++k)
-				EXPECT_EQ(got.rotation[k], want.rotation[k]);
-			// The packing keeps offsets to the millimetre.
-			EXPECT_NEAR(got.offset[0], src.votes[i].offset.x(), 0.5f);
+				EXPECT_EQ(got.offset[k], std::lround(src.votes[i].offset[k]));
+			ASSERT_LT(got.rotation, v.rotations.size());
+			EXPECT_EQ(v.rotations[got.rotation], PackedRotation::pack(src.votes[i].rotation));
 		}
 	}
 }
@@ -199,8 +233,25 @@ TEST_F(ForestFileTest, MeshWithoutNormals)
 	auto model = loadModelFile(file);
 	ASSERT_TRUE(model.ok()) << model.error().message;
 	EXPECT_FALSE((*model)->mesh().hasNormals());
-	EXPECT_EQ(test::rawEntries(test::readBytes(file)).size(), 4u + 3u * forest_.trees.size());
+	EXPECT_EQ(test::rawEntries(test::readBytes(file)).size(), 5u + 3u * forest_.trees.size());
 	expectRoundTrip(forest_, TemplateEncoding::kFloat32, **model, params_, mesh_);
+}
+
+// Past 65536 vertices a face index needs 32 bits; at 65536 it fits 16.
+TEST_F(ForestFileTest, FaceIndexWidthFollowsTheVertexCount)
+{
+	for (size_t vertices : {size_t{65536}, size_t{65537}}) {
+		mesh_.normals.clear();
+		mesh_.vertices.resize(vertices, Eigen::Vector3f(1, 2, 3));
+		mesh_.faces = {{0, 1, 2}, {uint32_t(vertices - 3), uint32_t(vertices - 2), uint32_t(vertices - 1)}};
+		const fs::path file = save(TemplateEncoding::kUint8, "big.ihf");
+		const auto *faces = test::findEntry(test::rawEntries(test::readBytes(file)), test::kRawFaces);
+		ASSERT_TRUE(faces);
+		EXPECT_EQ(faces->elementSize, vertices <= 65536 ? 6u : 12u) << vertices;
+		auto model = loadModelFile(file);
+		ASSERT_TRUE(model.ok()) << model.error().message;
+		EXPECT_EQ((*model)->mesh().faces, mesh_.faces) << vertices;
+	}
 }
 
 TEST_F(ForestFileTest, ViewPointsIntoTheMapping)
@@ -220,6 +271,7 @@ TEST_F(ForestFileTest, ViewPointsIntoTheMapping)
 		EXPECT_TRUE(inside(tv.nodes.data(), range));
 		EXPECT_TRUE(inside(tv.votes.data(), range));
 	}
+	EXPECT_TRUE(inside(mapped->forest().rotations.data(), range));
 }
 
 TEST_F(ForestFileTest, SummaryCountsMatchTheForest)
@@ -227,7 +279,7 @@ TEST_F(ForestFileTest, SummaryCountsMatchTheForest)
 	const fs::path file = save(TemplateEncoding::kUint8);
 	auto s = summariseModelFile(file);
 	ASSERT_TRUE(s.ok()) << s.error().message;
-	EXPECT_EQ(s->version, 1u);
+	EXPECT_EQ(s->version, 2u);
 	EXPECT_EQ(s->fileSize, fs::file_size(file));
 	EXPECT_EQ(s->dims, 96);
 	EXPECT_EQ(s->encoding, TemplateEncoding::kUint8);
@@ -245,6 +297,15 @@ TEST_F(ForestFileTest, SummaryCountsMatchTheForest)
 	EXPECT_TRUE(s->normals);
 	const std::string text = formatForestFileSummary(*s);
 	EXPECT_NE(text.find("NODES"), std::string::npos) << text;
+	EXPECT_NE(text.find("bytes by part:"), std::string::npos) << text;
+	// The parts add up to the file.
+	uint64_t parts = 0;
+	for (const char *name : {"mesh", "nodes", "templates", "votes", "params", "layout"}) {
+		const size_t at = text.find(std::string("\n  ") + name + " ");
+		ASSERT_NE(at, std::string::npos) << name << "\n" << text;
+		parts += std::stoull(text.substr(at + 3 + std::strlen(name)));
+	}
+	EXPECT_EQ(parts, s->fileSize) << text;
 	EXPECT_NE(text.find("\"obj_id\": 6"), std::string::npos) << text;
 }
 
@@ -332,7 +393,8 @@ TEST_F(ForestFileTest, FlippedByteInEachSectionIsNamed)
 {
 	const Bytes full = test::readBytes(save(TemplateEncoding::kFloat32));
 	const auto entries = test::rawEntries(full);
-	const char *names[] = {"", "PARAMS", "FOREST", "MESH_VERTICES", "MESH_FACES", "MESH_NORMALS"};
+	const char *names[] = {"",	     "PARAMS",	   "FOREST",	"MESH_VERTICES",
+			       "MESH_FACES", "MESH_NORMALS", "ROTATIONS"};
 	int checked = 0;
 	for (const auto &entry : entries) {
 		if (entry.size == 0)
@@ -341,7 +403,7 @@ TEST_F(ForestFileTest, FlippedByteInEachSectionIsNamed)
 		b[entry.offset + entry.size / 2] ^= 0x10;
 		Error e = loadErrorOf(b);
 		std::string want;
-		if (entry.type <= test::kRawNormals)
+		if (entry.type <= test::kRawRotations)
 			want = names[entry.type];
 		else
 			want = std::string(entry.type == test::kRawNodes ? "NODES"
@@ -353,7 +415,7 @@ TEST_F(ForestFileTest, FlippedByteInEachSectionIsNamed)
 			<< want << ": " << e.message;
 		++checked;
 	}
-	EXPECT_GE(checked, 14);
+	EXPECT_GE(checked, 15);
 
 	Bytes b = full;
 	b[44] ^= 1; // reserved header byte, covered by the header CRC
@@ -373,11 +435,12 @@ TEST_F(ForestFileTest, WrongMagicVersionAndByteOrder)
 	EXPECT_NE(e.message.find("not an ihf forest file"), std::string::npos) << e.message;
 
 	b = full;
-	test::wr32(b, 8, 2);
+	test::wr32(b, 8, 1);
 	test::resealCrcs(b);
 	e = loadErrorOf(b);
 	EXPECT_EQ(e.code, Errc::kUnsupported);
-	EXPECT_NE(e.message.find("version 2; this build reads version 1"), std::string::npos)
+	EXPECT_NE(e.message.find("forest file version 1; this ihf reads 2: retrain with ihf train"),
+		  std::string::npos)
 		<< e.message;
 
 	b = full;
@@ -487,7 +550,7 @@ TEST_F(ForestFileTest, ForgedTableAndParamsAreRefused)
 	test::wr32(b, forest->offset + 4, 0); // encoding float32
 	test::resealCrcs(b);
 	e = loadErrorOf(b);
-	EXPECT_NE(e.message.find("TEMPLATES of tree 0: element size 96, expected 384"),
+	EXPECT_NE(e.message.find("TEMPLATE_OFFSETS of tree 0: float32 templates have no offsets"),
 		  std::string::npos)
 		<< e.message;
 
@@ -503,7 +566,8 @@ TEST_F(ForestFileTest, ForgedTableAndParamsAreRefused)
 	// A face index past the vertices.
 	b = full;
 	const auto *faces = test::findEntry(entries, test::kRawFaces);
-	test::wr32(b, faces->offset + 12 * 5 + 8, 8);
+	b[faces->offset + 6 * 5 + 4] = 8; // u16 faces: 8 vertices
+	b[faces->offset + 6 * 5 + 5] = 0;
 	test::resealCrcs(b);
 	e = loadErrorOf(b);
 	EXPECT_NE(e.message.find("MESH_FACES: face 5 uses vertex 8 of 8"), std::string::npos)
@@ -522,6 +586,72 @@ TEST_F(ForestFileTest, ForgedTableAndParamsAreRefused)
 	e = loadError(bad);
 	EXPECT_NE(e.message.find(bad.string() + ": PARAMS: hocp.n_r: must be at least 1"),
 		  std::string::npos)
+		<< e.message;
+}
+
+// The sparse templates and the vote rotations are checked at load, so the
+// walk may follow them unchecked.
+TEST_F(ForestFileTest, ForgedTemplatesAndRotationsAreRefused)
+{
+	const Bytes full = test::readBytes(save(TemplateEncoding::kUint8));
+	const auto entries = test::rawEntries(full);
+	const auto *templ = test::findEntry(entries, test::kRawTemplates, 1);
+	const auto *offsets = test::findEntry(entries, test::kRawTemplateOffsets, 1);
+	const auto *votes = test::findEntry(entries, test::kRawVotes, 1);
+	const auto *rotations = test::findEntry(entries, test::kRawRotations);
+	ASSERT_TRUE(templ && offsets && votes && rotations);
+	ASSERT_GE(offsets->elementCount, 2u);
+
+	// A record that does not start where the previous one ends.
+	Bytes b = full;
+	test::wr32(b, offsets->offset + 4, test::rd32(b, offsets->offset + 4) + 1);
+	test::resealCrcs(b);
+	Error e = loadErrorOf(b);
+	EXPECT_EQ(e.code, Errc::kCorrupt);
+	EXPECT_NE(e.message.find("TEMPLATES of tree 1: template 1: record at byte"), std::string::npos)
+		<< e.message;
+
+	// One more bin present in the first record: its values now run into
+	// the second record, which no longer starts at its offset.
+	b = full;
+	size_t clear = 0;
+	while (clear < 96 && ((b[templ->offset + clear / 8] >> (clear % 8)) & 1))
+		++clear;
+	ASSERT_LT(clear, 96u);
+	b[templ->offset + clear / 8] |= static_cast<uint8_t>(1u << (clear % 8));
+	test::resealCrcs(b);
+	e = loadErrorOf(b);
+	EXPECT_NE(e.message.find("TEMPLATES of tree 1: template 1: record at byte"), std::string::npos)
+		<< e.message;
+
+	// The last record's values running past the section.
+	b = full;
+	const uint32_t last = test::rd32(b, offsets->offset + 4 * (offsets->elementCount - 1));
+	for (size_t i = 0; i < 12; ++i)
+		b[templ->offset + last + i] = 0xff;
+	test::resealCrcs(b);
+	e = loadErrorOf(b);
+	EXPECT_NE(e.message.find("values run past the end of the templates"), std::string::npos)
+		<< e.message;
+
+	// A vote whose rotation is not in the table.
+	b = full;
+	b[votes->offset + 6] = static_cast<uint8_t>(rotations->elementCount & 0xff);
+	b[votes->offset + 7] = static_cast<uint8_t>(rotations->elementCount >> 8);
+	test::resealCrcs(b);
+	e = loadErrorOf(b);
+	EXPECT_NE(e.message.find("VOTES of tree 1: vote 0: rotation " +
+				 std::to_string(rotations->elementCount) + " out of range"),
+		  std::string::npos)
+		<< e.message;
+
+	// A float32 file claiming uint8 templates has no offsets.
+	b = test::readBytes(save(TemplateEncoding::kFloat32, "float.ihf"));
+	const auto *forest = test::findEntry(test::rawEntries(b), test::kRawForest);
+	test::wr32(b, forest->offset + 4, 1);
+	test::resealCrcs(b);
+	e = loadErrorOf(b);
+	EXPECT_NE(e.message.find("no TEMPLATE_OFFSETS section for tree 0"), std::string::npos)
 		<< e.message;
 }
 

@@ -104,10 +104,13 @@ TEST_F(ForestGolden, Amd64FileLoadsWithIdenticalContent)
 		for (size_t i = 0; i < w.votes.size(); ++i) {
 			for (int k = 0; k < 3; ++k)
 				EXPECT_EQ(g.votes[i].offset[k], w.votes[i].offset[k]) << "vote " << i;
-			for (int k = 0; k < 4; ++k)
-				EXPECT_EQ(g.votes[i].rotation[k], w.votes[i].rotation[k]) << "vote " << i;
+			EXPECT_EQ(g.votes[i].rotation, w.votes[i].rotation) << "vote " << i;
 		}
 	}
+	ASSERT_EQ(got.rotations.size(), want.rotations.size());
+	for (size_t i = 0; i < want.rotations.size(); ++i)
+		for (int k = 0; k < 4; ++k)
+			EXPECT_EQ(got.rotations[i].q[k], want.rotations[i].q[k]) << "rotation " << i;
 }
 
 TEST_F(ForestGolden, TargetWriterProducesTheSameBytes)

@@ -276,6 +276,7 @@ inline void resealCrcs(Bytes &b)
 
 // Section type numbers from forest_file.h, spelled out independently.
 inline constexpr uint32_t kRawParams = 1, kRawForest = 2, kRawVertices = 3, kRawFaces = 4,
-			  kRawNormals = 5, kRawNodes = 16, kRawTemplates = 17, kRawVotes = 18;
+			  kRawNormals = 5, kRawRotations = 6, kRawNodes = 16, kRawTemplates = 17,
+			  kRawVotes = 18, kRawTemplateOffsets = 19;
 
 } // namespace ihf::test

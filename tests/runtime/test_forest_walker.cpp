@@ -53,22 +53,33 @@ TEST(ForestWalker, ReusedHistogramsCastTheVeryVotesOfRecomputedOnes)
 
 // The distance is summed in lanes (so that it vectorises); it must still be
 // the L2 distance: checked against a double-precision sum for both
-// encodings and for lengths that leave a tail past the lanes.
+// encodings (uint8 sparse, with empty bins) and for lengths that leave a
+// tail past the lanes. The sparse sum must also be the same bits as the
+// dense 8-bit values it stands for, which the file used to store.
 TEST(ForestWalker, TemplateDistanceIsTheL2DistanceForEveryLengthAndEncoding)
 {
-	for (int dims : {1, 7, 8, 13, 64, 256, 259}) {
+	for (int dims : {1, 7, 8, 13, 64, 256, 259, 520}) {
 		std::vector<float> hist(static_cast<size_t>(dims)), floats(static_cast<size_t>(2 * dims));
 		std::vector<uint8_t> bytes(static_cast<size_t>(2 * dims));
 		for (int i = 0; i < 2 * dims; ++i) {
-			bytes[static_cast<size_t>(i)] = static_cast<uint8_t>((i * 37 + 11) % 256);
+			// Two bins in three empty, as in a HoCP histogram.
+			bytes[static_cast<size_t>(i)] = i % 3 == 0 ? static_cast<uint8_t>((i * 37 + 11) % 256) : 0;
 			floats[static_cast<size_t>(i)] = static_cast<float>(bytes[static_cast<size_t>(i)]) / 255.0f;
 		}
 		for (int i = 0; i < dims; ++i)
 			hist[static_cast<size_t>(i)] = static_cast<float>((i * 53 + 5) % 97) / 97.0f;
+		std::vector<uint8_t> sparse;
+		std::vector<uint32_t> offsets;
+		for (size_t k = 0; k < 2; ++k) {
+			offsets.push_back(static_cast<uint32_t>(sparse.size()));
+			appendSparseTemplate(std::span<const uint8_t>(bytes).subspan(k * dims, dims), sparse);
+		}
+		EXPECT_LT(sparse.size(), bytes.size() + 2 * templateBitmapBytes(dims));
 		for (TemplateEncoding encoding : {TemplateEncoding::kFloat32, TemplateEncoding::kUint8}) {
 			TreeView tree;
 			tree.templates = encoding == TemplateEncoding::kFloat32 ? static_cast<const void *>(floats.data())
-										  : static_cast<const void *>(bytes.data());
+										  : static_cast<const void *>(sparse.data());
+			tree.templateOffsets = offsets;
 			ForestView forest;
 			forest.dims = dims;
 			forest.encoding = encoding;
@@ -83,6 +94,26 @@ TEST(ForestWalker, TemplateDistanceIsTheL2DistanceForEveryLengthAndEncoding)
 				const float d = templateDistance(forest, tree, index, hist);
 				EXPECT_NEAR(d, std::sqrt(ref), 1e-5 * std::sqrt(ref) + 1e-7)
 					<< dims << " dims, template " << index;
+				if (encoding == TemplateEncoding::kUint8) {
+					// The dense 8-bit sum, in the walker's lane order.
+					float lane[8] = {};
+					int i = 0;
+					for (; i + 8 <= dims; i += 8)
+						for (int l = 0; l < 8; ++l) {
+							const float e = hist[static_cast<size_t>(i + l)] -
+									static_cast<float>(bytes[index * dims + i + l]) *
+										(1.0f / 255.0f);
+							lane[l] += e * e;
+						}
+					float acc = ((lane[0] + lane[4]) + (lane[1] + lane[5])) +
+						    ((lane[2] + lane[6]) + (lane[3] + lane[7]));
+					for (; i < dims; ++i) {
+						const float e = hist[static_cast<size_t>(i)] -
+								static_cast<float>(bytes[index * dims + i]) * (1.0f / 255.0f);
+						acc += e * e;
+					}
+					EXPECT_EQ(d, std::sqrt(acc)) << dims << " dims, template " << index;
+				}
 			}
 		}
 	}
