@@ -15,7 +15,7 @@
 // dropped. A file with no triangle, with a non-finite coordinate or with
 // more than the limits allow is refused, its path named in the error.
 //
-// The device's loop (`ihf run`) reads forests, never meshes: this library is
+// The device's loop (`ihf run`) reads forests, never mesh files: this library is
 // linked by the CLI for training and rendering only, so a device build
 // without assimp keeps the PLY reader alone.
 

@@ -32,7 +32,14 @@ const char *nameFor(const uint8_t *data, size_t size)
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
 	const auto path = ihf::fuzz::inputFile(data, size, nameFor(data, size));
-	auto mesh = ihf::loadMesh(path);
+	// Limits well under the run's -malloc_limit_mb, so that a file that
+	// names another file in the input's folder (/dev/shm: a glTF buffer)
+	// stays within them, and an input over a limit is refused, not an OOM.
+	ihf::MeshImportLimits limits;
+	limits.maxFileBytes = 1u << 20;
+	limits.maxVertices = 1u << 20;
+	limits.maxTriangles = 1u << 20;
+	auto mesh = ihf::loadMesh(path, limits);
 	if (mesh) {
 		// A loaded mesh is what training needs: triangles, each index a
 		// vertex, finite coordinates, no degenerate face.
