@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -38,8 +39,9 @@ std::string readBytes(const fs::path &path)
 	return s.str();
 }
 
-// The lines of `ihf forest info` that describe the trees: each NODES,
-// TEMPLATES and VOTES section with its size and CRC, and the tree table.
+// What `ihf forest info` says of the trees: each NODES, TEMPLATES and
+// VOTES section's tree, bytes, element size, count and CRC (not its offset,
+// which moves with the sections before it), and the rows of the tree table.
 // The parameters (mesh name, training time) and the stored mesh (vertex
 // numbering, normals) may differ between a PLY and an STL of one surface.
 std::string treeLines(const std::string &info)
@@ -48,12 +50,19 @@ std::string treeLines(const std::string &info)
 	std::string line, out;
 	while (std::getline(in, line)) {
 		std::istringstream w(line);
-		std::string type;
-		w >> type;
-		const bool section = type == "NODES" || type == "TEMPLATES" || type == "VOTES";
-		const bool table = !type.empty() && (std::isdigit(static_cast<unsigned char>(type[0])) || type == "all");
-		if (section || table)
-			out += line + "\n";
+		std::vector<std::string> words;
+		for (std::string word; w >> word;)
+			words.push_back(word);
+		if (words.empty())
+			continue;
+		const std::string &type = words[0];
+		if ((type == "NODES" || type == "TEMPLATES" || type == "VOTES") && words.size() == 7)
+			words.erase(words.begin() + 2); // the offset
+		else if (!(words.size() == 6 && (std::isdigit(static_cast<unsigned char>(type[0])) || type == "all")))
+			continue;
+		for (const auto &word : words)
+			out += word + " ";
+		out += "\n";
 	}
 	return out;
 }

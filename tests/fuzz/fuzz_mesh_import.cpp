@@ -29,6 +29,16 @@ const char *nameFor(const uint8_t *data, size_t size)
 
 } // namespace
 
+// LeakSanitizer (ASan builds): ignore leaks whose allocation passes through
+// Debian's assimp. assimp 5.2.5's ASCII STL importer drops the mesh and
+// node it has made when a file breaks midway (~2.5 KB per refused file,
+// once per `ihf train`; tests/data/fuzz/stl_ascii_broken_midway.stl). Our
+// own leaks are still reported.
+extern "C" const char *__lsan_default_suppressions()
+{
+	return "leak:libassimp.so\n";
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
 	const auto path = ihf::fuzz::inputFile(data, size, nameFor(data, size));

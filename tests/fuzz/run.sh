@@ -62,9 +62,6 @@ if ((${#names[@]} == 0)); then
 		fuzz_box_feed fuzz_toml_config)
 fi
 
-# Leaks inside Debian's libraries that we cannot fix (tests/fuzz/lsan_suppressions.txt).
-export LSAN_OPTIONS="suppressions=$here/lsan_suppressions.txt${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
-
 status=0
 summary=()
 for name in "${names[@]}"; do

@@ -23,6 +23,16 @@
 #include "tests/common/mesh_files.h"
 #include "tests/common/test_paths.h"
 
+// LeakSanitizer (ASan builds): ignore leaks whose allocation passes through
+// Debian's assimp. assimp 5.2.5's ASCII STL importer drops the mesh and
+// node it has made when a file breaks midway (~2.5 KB per refused file,
+// once per `ihf train`; tests/data/fuzz/stl_ascii_broken_midway.stl). Our
+// own leaks are still reported.
+extern "C" const char *__lsan_default_suppressions()
+{
+	return "leak:libassimp.so\n";
+}
+
 namespace ihf {
 namespace {
 
@@ -243,7 +253,7 @@ TEST_F(MeshImportTest, BrokenFilesNameTheFileAndTheFault)
 	stl.append(50, '\0');
 	expectError(write("lying.stl", stl), "cannot read");
 	// Found by fuzz_mesh_import: an ASCII STL broken after two facets
-	// (assimp leaks its partial mesh there; tests/fuzz/lsan_suppressions.txt).
+	// (assimp leaks its partial mesh there; see __lsan_default_suppressions).
 	expectError(test::sourceDir() / "tests" / "data" / "fuzz" / "stl_ascii_broken_midway.stl", "Invalid number of vertices");
 }
 
