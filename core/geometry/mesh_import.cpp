@@ -113,7 +113,7 @@ int jsonDepth(std::string_view text)
 // the child of two nodes, or of itself, would make assimp copy it once per
 // path, exponentially many, or recurse forever), no deeper than
 // kMaxNodeDepth. `bytes` is the whole file, .gltf or .glb.
-Status checkGltf(const std::string &bytes, bool binary)
+Status checkGltf(const std::string &bytes, bool binary, uint64_t maxNodes)
 {
 	std::string_view text = bytes;
 	if (binary) {
@@ -134,6 +134,9 @@ Status checkGltf(const std::string &bytes, bool binary)
 	if (nodesIt == j.end() || !nodesIt->is_array())
 		return {};
 	const nlohmann::json &nodes = *nodesIt;
+	if (nodes.size() > maxNodes)
+		return makeError(Errc::kCapacity, "glTF: " + std::to_string(nodes.size()) + " nodes, more than the limit of " +
+							  std::to_string(maxNodes));
 	std::vector<int> parent(nodes.size(), -1);
 	for (size_t n = 0; n < nodes.size(); ++n) {
 		if (!nodes[n].is_object())
@@ -161,6 +164,25 @@ Status checkGltf(const std::string &bytes, bool binary)
 									     std::to_string(kMaxNodeDepth) +
 									     " levels or in a cycle");
 		}
+	}
+	return {};
+}
+
+// OBJ: the objects and groups ('o' and 'g' lines), each a node and a mesh
+// in assimp, no more than maxNodes.
+Status checkObj(std::string_view text, uint64_t maxNodes)
+{
+	uint64_t groups = 0;
+	for (size_t at = 0; at < text.size();) {
+		size_t end = text.find('\n', at);
+		if (end == std::string_view::npos)
+			end = text.size();
+		const std::string_view line = text.substr(at, end - at);
+		if (line.size() >= 2 && (line[0] == 'o' || line[0] == 'g') && (line[1] == ' ' || line[1] == '\t') &&
+		    ++groups > maxNodes)
+			return makeError(Errc::kCapacity, "OBJ: more than " + std::to_string(maxNodes) +
+								  " objects and groups ('o', 'g' lines)");
+		at = end + 1;
 	}
 	return {};
 }
@@ -374,12 +396,14 @@ Expected<Mesh> loadWithAssimp(const fs::path &path, const MeshImportLimits &limi
 	if (ec)
 		return makeError(Errc::kIo, name + ": cannot resolve the path: " + ec.message());
 
-	if (formatOf(path) == MeshFormat::kGltf) {
+	if (const MeshFormat format = formatOf(path); format == MeshFormat::kGltf || format == MeshFormat::kObj) {
 		auto bytes = readWhole(file);
 		if (!bytes)
 			return makeError(bytes.error().code, name + ": " + bytes.error().message);
 		const bool binary = bytes->size() >= 4 && bytes->compare(0, 4, "glTF") == 0;
-		if (Status s = checkGltf(*bytes, binary); !s)
+		Status s = format == MeshFormat::kObj ? checkObj(*bytes, limits.maxNodes)
+						      : checkGltf(*bytes, binary, limits.maxNodes);
+		if (!s)
 			return makeError(s.error().code, name + ": " + s.error().message);
 	}
 

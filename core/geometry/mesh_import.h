@@ -34,6 +34,10 @@ struct MeshImportLimits {
 	// Checked on what assimp returns, before our copy is made.
 	uint64_t maxVertices = 16'000'000;
 	uint64_t maxTriangles = 16'000'000;
+	// Checked before assimp reads the file: glTF nodes, OBJ objects and
+	// groups ('o', 'g' lines). Assimp makes a node of over 1 KB for each,
+	// so a 10 MB file of empty ones would cost it gigabytes.
+	uint64_t maxNodes = 100'000;
 };
 
 // True when this build reads STL, OBJ and glTF (assimp found).

@@ -286,6 +286,17 @@ TEST_F(MeshImportTest, LimitsAreCheckedBeforeTheCopy)
 	vertices.maxVertices = 100;
 	expectError(path, "more than 100 vertices", vertices);
 
+	// Objects, groups and nodes, counted in the file before assimp makes
+	// a node of each.
+	MeshImportLimits nodes;
+	nodes.maxNodes = 2;
+	expectError(write("groups.obj", "o a\ng b\nv 0 0 0\nv 1 0 0\nv 0 1 0\ng c\nf 1 2 3\n"),
+		    "more than 2 objects and groups", nodes);
+	nodes.maxNodes = 3;
+	EXPECT_TRUE(loadMesh(dir_ / "groups.obj", nodes).ok());
+	nodes.maxNodes = 0;
+	expectError(write("nodes.glb", test::glb(*ply)), "glTF: 1 nodes, more than the limit of 0", nodes);
+
 	MeshImportLimits exact;
 	exact.maxFileBytes = fs::file_size(path);
 	exact.maxTriangles = ply->faces.size();
