@@ -12,7 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "core/dataset/bop_io.h"
-#include "core/geometry/ply_loader.h"
+#include "core/geometry/mesh_import.h"
 #include "core/render/depth_renderer.h"
 #include "firmware_app/command.h"
 
@@ -76,7 +76,7 @@ int runRender(const RenderOptions &opt)
 		std::fprintf(stderr, "ihf render: %s: intrinsics or image size invalid\n", opt.camera.c_str());
 		return kExitFailure;
 	}
-	auto mesh = loadPly(opt.model);
+	auto mesh = loadMesh(opt.model);
 	if (!mesh) {
 		std::fprintf(stderr, "ihf render: %s\n", mesh.error().message.c_str());
 		return kExitFailure;
@@ -137,7 +137,7 @@ void addRenderCommand(CLI::App &root, Action &action)
 {
 	auto opt = std::make_shared<RenderOptions>();
 	auto *cmd = root.add_subcommand("render", "Render a model's depth at a pose to a 16-bit BOP depth PNG");
-	cmd->add_option("--model", opt->model, "Model PLY (millimetres)")->required()->check(CLI::ExistingFile);
+	cmd->add_option("--model", opt->model, std::string("Model mesh in mm (") + meshImportFormats() + ")")->required()->check(CLI::ExistingFile);
 	cmd->add_option("--camera", opt->camera, "BOP camera.json (intrinsics, image size, depth_scale)")
 		->required()
 		->check(CLI::ExistingFile);

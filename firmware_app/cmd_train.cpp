@@ -8,7 +8,7 @@
 #include "core/dataset/bop_dataset.h"
 #include "core/dataset/bop_io.h"
 #include "core/forest/forest_trainer.h"
-#include "core/geometry/ply_loader.h"
+#include "core/geometry/mesh_import.h"
 #include "core/model/forest_file.h"
 #include "core/training/hocp_split_metric.h"
 #include "core/training/training_set.h"
@@ -44,7 +44,7 @@ int runTrain(const TrainOptions &o)
 	if (o.seed >= 0)
 		s.set.seed = s.set.views.seed = s.forest.seed = s.params.seed = static_cast<uint64_t>(o.seed);
 
-	auto mesh = loadPly(o.model);
+	auto mesh = loadMesh(o.model);
 	if (!mesh) {
 		std::fprintf(stderr, "ihf train: %s\n", mesh.error().message.c_str());
 		return kExitFailure;
@@ -73,6 +73,11 @@ int runTrain(const TrainOptions &o)
 	}
 	s.params.objId = objId;
 	s.params.diameter = meshDiameter(*mesh);
+	// Coordinates are millimetres in every format; an object a few mm
+	// across is most likely a model exported in metres (glTF's unit).
+	if (s.params.diameter < 5.0)
+		std::fprintf(stderr, "ihf train: warning: %s is %.3g mm across; coordinates are read as millimetres "
+			     "(scale a model in metres by 1000)\n", o.model.c_str(), s.params.diameter);
 	s.params.meshName = std::filesystem::path(o.model).filename().string();
 	std::filesystem::path infoPath = o.modelsInfo.empty()
 		? std::filesystem::path(o.model).parent_path() / "models_info.json"
@@ -134,7 +139,8 @@ void addTrainCommand(CLI::App &root, Action &action)
 {
 	auto opts = std::make_shared<TrainOptions>();
 	auto *cmd = root.add_subcommand("train", "Train an IHF forest from an object mesh");
-	cmd->add_option("--model", opts->model, "Object mesh (PLY, mm), e.g. models/obj_000001.ply")
+	cmd->add_option("--model", opts->model,
+			std::string("Object mesh in mm (") + meshImportFormats() + "), e.g. models/obj_000001.ply")
 		->required()->check(CLI::ExistingFile);
 	cmd->add_option("--out", opts->out, "Forest file to write (.ihf)")->required();
 	cmd->add_option("--config", opts->config, "Training configuration (TOML), e.g. config/train.toml")
@@ -142,7 +148,7 @@ void addTrainCommand(CLI::App &root, Action &action)
 	cmd->add_option("--camera", opts->camera, "BOP camera.json of the target camera (default: Kinect v1 of LM-O)")
 		->check(CLI::ExistingFile);
 	cmd->add_option("--models-info", opts->modelsInfo, "models_info.json (default: beside the mesh)");
-	cmd->add_option("--obj-id", opts->objId, "Object id (default: from obj_NNNNNN.ply)");
+	cmd->add_option("--obj-id", opts->objId, "Object id (default: from the file name obj_NNNNNN.*)");
 	cmd->add_option("--threads", opts->threads, "Worker threads (default: from config)")->check(CLI::Range(1, 256));
 	cmd->add_option("--seed", opts->seed, "Random seed (default: from config)")->check(CLI::NonNegativeNumber);
 	cmd->callback([opts, &action] { action = [opts] { return runTrain(*opts); }; });

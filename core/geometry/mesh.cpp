@@ -127,28 +127,30 @@ double meshDiameter(const Mesh &mesh)
 	return best;
 }
 
+bool isDegenerateFace(const Mesh &mesh, const std::array<uint32_t, 3> &f)
+{
+	const size_t n = mesh.vertices.size();
+	if (f[0] >= n || f[1] >= n || f[2] >= n || repeatsIndex(f))
+		return true;
+	const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>();
+	const Eigen::Vector3d b = mesh.vertices[f[1]].cast<double>();
+	const Eigen::Vector3d c = mesh.vertices[f[2]].cast<double>();
+	// Area relative to the longest edge squared: 1e-9 is collinear up to
+	// float rounding of the coordinates.
+	const double twiceArea = (b - a).cross(c - a).norm();
+	const double edge2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+	return twiceArea <= 1e-9 * edge2;
+}
+
 size_t countDegenerateFaces(const Mesh &mesh)
 {
 	size_t count = 0;
-	const size_t n = mesh.vertices.size();
 	for (const auto &f : mesh.faces) {
-		if (f[0] >= n || f[1] >= n || f[2] >= n || repeatsIndex(f)) {
-			++count;
-			continue;
-		}
-		const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>();
-		const Eigen::Vector3d b = mesh.vertices[f[1]].cast<double>();
-		const Eigen::Vector3d c = mesh.vertices[f[2]].cast<double>();
-		// Area relative to the longest edge squared: 1e-9 is collinear up to
-		// float rounding of the coordinates.
-		const double twiceArea = (b - a).cross(c - a).norm();
-		const double edge2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-		if (twiceArea <= 1e-9 * edge2)
+		if (isDegenerateFace(mesh, f))
 			++count;
 	}
 	return count;
 }
-
 
 /*
  * Closed and oriented: every edge is run as often one way as the other by

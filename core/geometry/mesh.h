@@ -35,6 +35,10 @@ double meshDiameter(const Mesh &mesh);
 // and the samplers; counted so loaders can report them.
 size_t countDegenerateFaces(const Mesh &mesh);
 
+// Whether one face is degenerate in the sense of countDegenerateFaces(): an
+// index out of range or repeated, or an area within float rounding of zero.
+bool isDegenerateFace(const Mesh &mesh, const std::array<uint32_t, 3> &face);
+
 // Whether the mesh is closed, consistently wound and wound outwards (a
 // positive volume): seen from outside, its back faces then always lie
 // behind its front faces (DepthRenderer::setCullBackFaces()).
