@@ -125,8 +125,9 @@ TEST_F(ForestFileTest, LayoutFollowsTheSpec)
 				const uint8_t q = quantiseBin(tree.templates[96 * k + i]);
 				const bool bit = (b[templ->offset + at + i / 8] >> (i % 8)) & 1;
 				EXPECT_EQ(bit, q != 0) << "template " << k << " bin " << i;
-				if (q != 0 && bit)
+				if (q != 0 && bit) {
 					EXPECT_EQ(b[templ->offset + at + 12 + present], q);
+				}
 				present += q != 0;
 			}
 			recordBytes += 12 + present;
