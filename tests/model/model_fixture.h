@@ -261,6 +261,8 @@ inline const RawEntry *findEntry(const std::vector<RawEntry> &entries, uint32_t 
 			return &e;
 	return nullptr;
 }
+// The result points into the list: a temporary list would leave it dangling.
+const RawEntry *findEntry(std::vector<RawEntry> &&entries, uint32_t type, uint32_t tree = 0) = delete;
 
 // Recomputes every section CRC, the table CRC and the header CRC, so a
 // forged payload passes the checksums and reaches the structural checks.
