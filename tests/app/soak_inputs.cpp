@@ -39,7 +39,22 @@ Status writeBytes(const fs::path &file, const std::vector<char> &bytes)
 	return {};
 }
 
+// Every corruptEvery-th frame, never the first or the last.
+bool damaged(uint64_t position, uint64_t records, int corruptEvery)
+{
+	return corruptEvery > 0 && position > 0 && position + 1 < records &&
+	       (position + 1) % static_cast<uint64_t>(corruptEvery) == 0;
+}
+
 } // namespace
+
+uint64_t corruptFramesPerPass(uint64_t records, int corruptEvery)
+{
+	uint64_t n = 0;
+	for (uint64_t i = 0; i < records; ++i)
+		n += damaged(i, records, corruptEvery);
+	return n;
+}
 
 Expected<SoakInputs> makeSoakInputs(const fs::path &recording, const fs::path &boxLines, const SoakFaults &faults,
 				    const fs::path &outDir)
@@ -64,15 +79,12 @@ Expected<SoakInputs> makeSoakInputs(const fs::path &recording, const fs::path &b
 	}
 	in.indexSpan = hi - lo + 1;
 
-	// The corrupt positions: every corruptEvery-th, never the first or last.
 	std::vector<bool> corrupt(n, false);
-	if (faults.corruptEvery > 0)
-		for (size_t i = static_cast<size_t>(faults.corruptEvery) - 1; i + 1 < n;
-		     i += static_cast<size_t>(faults.corruptEvery))
-			if (i > 0) {
-				corrupt[i] = true;
-				++in.corruptPerPass;
-			}
+	for (size_t i = 0; i < n; ++i)
+		if (damaged(i, n, faults.corruptEvery)) {
+			corrupt[i] = true;
+			++in.corruptPerPass;
+		}
 	in.goodFrames = (n - in.corruptPerPass) * faults.passes;
 	in.corruptFrames = in.corruptPerPass * faults.passes;
 

@@ -49,6 +49,9 @@ struct SoakInputs {
 	uint64_t unknownBoxes = 0; // on intact lines of good frames: the ones the run meets
 };
 
+// The frames of a recording of `records` frames that makeSoakInputs damages.
+uint64_t corruptFramesPerPass(uint64_t records, int corruptEvery);
+
 Expected<SoakInputs> makeSoakInputs(const std::filesystem::path &recording, const std::filesystem::path &boxLines,
 				    const SoakFaults &faults, const std::filesystem::path &outDir);
 

@@ -3,8 +3,8 @@
 // and prints what the run must count, as KEY=VALUE lines for a shell:
 //   ihf_soak_inputs --recording R.rec --boxes R.boxes.jsonl --out DIR --frames N
 //                   [--corrupt-every 7] [--truncate-every 11] [--unknown-every 5]
-// --frames is the least number of frames to cover: the box lines cover as
-// many whole passes over the recording as that takes.
+// --frames is the least number of good frames to play: the box lines cover
+// as many whole passes over the recording as that takes.
 
 #include <cstdio>
 #include <cstdlib>
@@ -57,7 +57,8 @@ int main(int argc, char **argv)
 		std::fprintf(stderr, "ihf_soak_inputs: %s has no frames\n", recording.c_str());
 		return 1;
 	}
-	faults.passes = (static_cast<uint64_t>(frames) + perPass - 1) / perPass;
+	const uint64_t goodPerPass = perPass - ihf::test::corruptFramesPerPass(perPass, faults.corruptEvery);
+	faults.passes = (static_cast<uint64_t>(frames) + goodPerPass - 1) / goodPerPass;
 	auto made = ihf::test::makeSoakInputs(recording, boxes, faults, out);
 	if (!made) {
 		std::fprintf(stderr, "ihf_soak_inputs: %s\n", made.error().message.c_str());
