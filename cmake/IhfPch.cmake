@@ -4,7 +4,8 @@
 # source file. Two anchor targets precompile the common headers once per
 # build; every other C++ target reuses their PCH (REUSE_FROM), so the
 # flags of all of them must match. Targets with their own flags that change
-# what the headers mean (EIGEN_RUNTIME_NO_MALLOC, -UNDEBUG, -fPIC) keep
+# what the headers mean (EIGEN_RUNTIME_NO_MALLOC, -UNDEBUG, -fPIC, their own
+# -f[no-]sanitize) keep
 # parsing the headers themselves. GCC checks that a PCH fits the command
 # line and otherwise falls back to the header text (-Winvalid-pch says so),
 # so a mismatch costs time, never correctness.
@@ -47,7 +48,7 @@ function(ihf_enable_pch)
     get_target_property(pic ${t} POSITION_INDEPENDENT_CODE)
     get_target_property(opts ${t} COMPILE_OPTIONS)
     get_target_property(defs ${t} COMPILE_DEFINITIONS)
-    if(pic OR "${opts}" MATCHES "UNDEBUG" OR "${defs}" MATCHES "EIGEN_")
+    if(pic OR "${opts}" MATCHES "UNDEBUG|sanitize" OR "${defs}" MATCHES "EIGEN_")
       continue()
     endif()
     # Objects of a target that links the no-malloc frame path: own flags.

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "drivers/recording_source.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace ihf {
 
 RecordingSource::RecordingSource(std::filesystem::path file, RecordingSourceOptions options,
@@ -30,7 +33,50 @@ Status RecordingSource::open()
 	lastIndex_.reset();
 	pacer_.reset();
 	started_ = false;
+	pass_ = passDelivered_ = indexOffset_ = 0;
+	timeOffsetNs_ = 0;
+	firstGood_.reset();
+	lastGood_.reset();
+	indexSpan_ = 1;
+	if (reader_->frameCount() > 0) {
+		uint64_t lo = reader_->entry(0).frameIndex, hi = lo;
+		for (size_t i = 1; i < reader_->frameCount(); ++i) {
+			lo = std::min(lo, reader_->entry(i).frameIndex);
+			hi = std::max(hi, reader_->entry(i).frameIndex);
+		}
+		indexSpan_ = hi - lo + 1;
+	}
 	return {};
+}
+
+void RecordingSource::noteDelivered(const recording::FrameRecord &rec)
+{
+	++passDelivered_;
+	if (pass_ > 0)
+		return;
+	if (!firstGood_)
+		firstGood_ = rec;
+	lastGood_ = rec;
+}
+
+bool RecordingSource::wrap()
+{
+	if (!options_.loop || passDelivered_ == 0)
+		return false;
+	if (pass_ == 0) {
+		// The recorded frame interval from the first pass's good frames; a
+		// single frame is taken as one of a 30 Hz stream.
+		double intervalNs = 1e9 / 30;
+		if (lastGood_->index > firstGood_->index)
+			intervalNs = static_cast<double>(lastGood_->hostTimestampNs - firstGood_->hostTimestampNs) /
+				     static_cast<double>(lastGood_->index - firstGood_->index);
+		timeOffsetNs_ = std::llround(intervalNs * static_cast<double>(indexSpan_));
+	}
+	++pass_;
+	passDelivered_ = 0;
+	position_ = 0;
+	indexOffset_ = pass_ * indexSpan_;
+	return true;
 }
 
 Status RecordingSource::start()
@@ -61,6 +107,7 @@ Status RecordingSource::seek(uint64_t frameIndex)
 							  std::to_string(frameIndex));
 	position_ = *pos;
 	pending_ = false;
+	pass_ = passDelivered_ = indexOffset_ = 0;
 	pacer_.reset(); // pacing restarts at the new frame
 	lastIndex_.reset();
 	return {};
@@ -71,7 +118,9 @@ Expected<FrameOutcome> RecordingSource::next(Frame &frame, std::chrono::nanoseco
 	if (!started_)
 		return makeError(Errc::kInvalidArgument, info_.uri + ": next() before start()");
 
-	for (; position_ < reader_->frameCount(); ++position_) {
+	for (;;) {
+		if (position_ >= reader_->frameCount() && !wrap())
+			break;
 		// A frame read earlier but not yet due stays in buffer_.
 		if (!pending_) {
 			Expected<FrameCheck> check = reader_->read(position_, pendingRecord_, buffer_.view());
@@ -79,19 +128,28 @@ Expected<FrameOutcome> RecordingSource::next(Frame &frame, std::chrono::nanoseco
 				return check.error();
 			if (*check == FrameCheck::kCorrupt) {
 				++counters_.corrupt;
+				// Counted as corrupt, not also as a gap: its index is the
+				// seek index's (CRC-checked, or found by scanning).
+				const uint64_t index = reader_->entry(position_).frameIndex + indexOffset_;
+				if (!lastIndex_ || index > *lastIndex_)
+					lastIndex_ = index;
+				++position_;
 				continue;
 			}
 			pending_ = true;
 		}
 		const recording::FrameRecord &rec = pendingRecord_;
-		if (options_.pacing == Pacing::kRealTime && !pacer_.waitFor(rec.hostTimestampNs, timeout)) {
+		const int64_t passTimeNs = static_cast<int64_t>(pass_) * timeOffsetNs_;
+		if (options_.pacing == Pacing::kRealTime &&
+		    !pacer_.waitFor(rec.hostTimestampNs + passTimeNs, timeout)) {
 			++counters_.timeouts;
 			return FrameOutcome::kTimeout;
 		}
 		pending_ = false;
-		frame.index = rec.index;
-		frame.deviceTimestampNs = rec.deviceTimestampNs;
-		frame.hostTimestampNs = rec.hostTimestampNs;
+		noteDelivered(rec);
+		frame.index = rec.index + indexOffset_;
+		frame.deviceTimestampNs = rec.deviceTimestampNs + passTimeNs;
+		frame.hostTimestampNs = rec.hostTimestampNs + passTimeNs;
 		// Gaps in the recorded index are frames the recorder never got.
 		if (lastIndex_ && frame.index > *lastIndex_ + 1)
 			counters_.dropped += frame.index - *lastIndex_ - 1;

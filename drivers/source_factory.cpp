@@ -14,13 +14,14 @@ namespace ihf {
 const char *frameSourceUriHelp()
 {
 #ifdef IHF_HAVE_OPENNI2
-	return "recording:PATH (an ihf .rec file), openni2: (first OpenNI2 device), "
+	return "recording:PATH[?loop=1] (an ihf .rec file; loop=1 plays it again and again, indices and "
+	       "time running on), openni2: (first OpenNI2 device), "
 	       "openni2:PATH.oni (an OpenNI2 recording), openni2:URI (an OpenNI2 device), "
 	       "v4l2:/dev/videoN[?format=z16|y16&width=W&height=H&fps=F&scale=MM&hfov=DEG&fx=..&fy=..&cx=..&cy=..] "
 	       "(a V4L2 depth node), libcamera:[CAMERA-ID][?width=W&height=H&scale=MM&hfov=DEG] "
 	       "(a raw depth/ToF stream; when built with libcamera)";
 #else
-	return "recording:PATH (an ihf .rec file), v4l2:/dev/videoN[?...] (a V4L2 depth node), "
+	return "recording:PATH[?loop=1] (an ihf .rec file; loop=1 plays it again and again), v4l2:/dev/videoN[?...] (a V4L2 depth node), "
 	       "libcamera:[CAMERA-ID] (when built with libcamera); openni2: is not in this build";
 #endif
 }
@@ -43,7 +44,20 @@ Expected<std::unique_ptr<FrameSource>> makeFrameSource(const std::string &uri,
 		o.pacing = options.pacing;
 		o.speed = options.speed;
 		o.clock = options.clock;
-		return std::unique_ptr<FrameSource>(std::make_unique<RecordingSource>(rest, o, uri));
+		std::string path = rest;
+		if (const size_t q = rest.rfind('?'); q != std::string::npos) {
+			const std::string query = rest.substr(q + 1);
+			if (query == "loop=1")
+				o.loop = true;
+			else if (query != "loop=0")
+				return makeError(Errc::kInvalidArgument,
+						 "frame source '" + uri + "': recording: takes only ?loop=0 or ?loop=1");
+			path = rest.substr(0, q);
+			if (path.empty())
+				return makeError(Errc::kInvalidArgument,
+						 "frame source '" + uri + "': recording: needs a file path");
+		}
+		return std::unique_ptr<FrameSource>(std::make_unique<RecordingSource>(path, o, uri));
 	}
 	if (scheme == "openni2") {
 #ifdef IHF_HAVE_OPENNI2

@@ -196,9 +196,9 @@ int runRun(const RunOptions &o)
 
 	Status finished = (*output)->finish();
 	const BoxFeedCounters &fc = (*feed)->counters();
-	std::fprintf(stderr, "ihf run: %s; %s; box lines %llu skipped %llu%s\n", runEndName(end),
+	std::fprintf(stderr, "ihf run: %s; %s; box lines %llu skipped %llu malformed %llu%s\n", runEndName(end),
 		     loop.statsLine().c_str(), static_cast<unsigned long long>(fc.lines),
-		     static_cast<unsigned long long>(fc.skipped),
+		     static_cast<unsigned long long>(fc.skipped), static_cast<unsigned long long>(fc.malformed),
 		     shutdown.signal() ? (shutdown.signal() == SIGINT ? "; on SIGINT" : "; on SIGTERM") : "");
 	if (vis)
 		std::fprintf(stderr, "ihf run: %llu pictures in %s\n",

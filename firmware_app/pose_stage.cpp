@@ -226,6 +226,15 @@ void PoseStage::describe(std::string &line) const
 			      v[std::min(n - 1, static_cast<size_t>(std::ceil(0.99 * n)) - 1)]);
 		line += buf;
 	}
+	// The frame path's fixed memory: how much of each arena the largest box
+	// so far needed (flat once every kind of box has been seen).
+	std::snprintf(buf, sizeof(buf), "; arena high-water %zu of %zu bytes", estimator_.arenaUsed(),
+		      estimator_.arenaCapacity());
+	line += buf;
+	if (tracker_) {
+		std::snprintf(buf, sizeof(buf), " (tracker %zu of %zu)", tracker_->arenaUsed(), tracker_->arenaCapacity());
+		line += buf;
+	}
 }
 
 } // namespace ihf::app

@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # Installs the Debian 12 packages ihf needs (only those missing), then
-# configures and builds the release preset. Idempotent; safe to re-run.
+# configures and builds a preset (default release; debug: ASan + UBSan in
+# build-debug/). Idempotent; safe to re-run.
+#
+#   toolchain/setup.sh [PRESET]
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(dirname "$here")"
@@ -19,6 +22,7 @@ if ((${#missing[@]})); then
 	DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
+preset="${1:-release}"
 cd "$root"
-cmake --preset release >/dev/null
-cmake --build --preset release
+cmake --preset "$preset" >/dev/null
+cmake --build --preset "$preset"

@@ -38,6 +38,25 @@ public:
 
 } // namespace
 
+#if defined(__SANITIZE_ADDRESS__)
+#define IHF_ALLOC_HOOKS 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define IHF_ALLOC_HOOKS 1
+#endif
+#endif
+
+#ifdef IHF_ALLOC_HOOKS
+// AddressSanitizer owns malloc & co.: its allocator calls these hooks on
+// every allocation (operator new's and zlib's included) and free.
+extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*mallocHook)(const volatile void *, size_t),
+							   void (*freeHook)(const volatile void *));
+namespace {
+void onAllocation(const volatile void *, size_t) { countAllocation(); }
+void onFree(const volatile void *) {}
+[[maybe_unused]] const int gHooksInstalled = __sanitizer_install_malloc_and_free_hooks(onAllocation, onFree);
+} // namespace
+#else
 // glibc's allocator under its internal names; the definitions below take
 // the place of malloc & co. for the whole test executable (operator new and
 // zlib allocate through them).
@@ -70,6 +89,7 @@ void free(void *p)
 	__libc_free(p);
 }
 }
+#endif
 
 namespace ihf::test {
 namespace {
@@ -80,6 +100,17 @@ using namespace std::chrono_literals;
 class NoAllocation : public ::testing::TestWithParam<bool>
 {
 };
+
+// The counting sees allocations at all (replaced malloc, or the
+// sanitizer's hooks).
+TEST(NoAllocationSelfCheck, AnAllocationIsCounted)
+{
+	AllocationCount allocs;
+	auto *p = new std::vector<uint16_t>(1000);
+	asm volatile("" : : "g"(p) : "memory");
+	delete p;
+	EXPECT_EQ(allocs.count(), 2); // the vector and its buffer
+}
 
 TEST_P(NoAllocation, WritingAndPlayingFrames)
 {

@@ -11,6 +11,7 @@
 #include "drivers/recording_reader.h"
 #include "drivers/recording_source.h"
 #include "drivers/replay_pacer.h"
+#include "drivers/source_factory.h"
 #include "tests/common/test_paths.h"
 #include "tests/drivers/recording_test_util.h"
 
@@ -165,6 +166,7 @@ TEST_P(RecordingRoundTrip, CorruptFrameIsSkippedAndCounted)
 	EXPECT_EQ(playAll(src, s), (std::vector<uint64_t>{10, 12, 14, 15}));
 	EXPECT_EQ(src.counters().corrupt, 1u);
 	EXPECT_EQ(src.counters().delivered, 4u);
+	EXPECT_EQ(src.counters().dropped, 1u); // 13; the corrupt 11 is counted once, as corrupt
 }
 
 TEST(RecordingDamage, CorruptFrameHeaderIsSkippedToo)
@@ -184,6 +186,103 @@ TEST(RecordingDamage, CorruptFrameHeaderIsSkippedToo)
 	ASSERT_TRUE(src.start().ok());
 	EXPECT_EQ(playAll(src, s), (std::vector<uint64_t>{10, 11, 14, 15}));
 	EXPECT_EQ(src.counters().corrupt, 1u);
+}
+
+// Looped, each pass adds the index span (15 - 10 + 1) to the indices and as
+// many recorded frame intervals (33.33 ms) to the timestamps; the corrupt
+// frame is skipped and counted on every pass, and is not a gap.
+TEST(RecordingLoop, IndicesAndTimestampsRunOnAcrossPasses)
+{
+	const fs::path file = freshTempDir("rec_loop") / "s.rec";
+	const TestStream s = testStream();
+	writeStream(file, s, true);
+	corruptPayload(file, 1, 20);
+
+	RecordingSourceOptions o;
+	o.loop = true;
+	RecordingSource src(file, o);
+	ASSERT_TRUE(src.open().ok());
+	ASSERT_TRUE(src.start().ok());
+	const int64_t passNs = 6 * 33'333'333;
+	const std::vector<size_t> good = {0, 2, 3, 4};
+	Frame f;
+	for (uint64_t pass = 0; pass < 3; ++pass) {
+		for (size_t i : good) {
+			auto r = src.next(f, 0ns);
+			ASSERT_TRUE(r.ok()) << r.error().message;
+			ASSERT_EQ(*r, FrameOutcome::kFrame);
+			EXPECT_EQ(f.index, s.indices[i] + 6 * pass);
+			EXPECT_EQ(f.hostTimestampNs, s.hostNs[i] + static_cast<int64_t>(pass) * passNs);
+			EXPECT_EQ(f.deviceTimestampNs, s.deviceNs[i] + static_cast<int64_t>(pass) * passNs);
+			EXPECT_TRUE(sameDepth(f.depth, s.frames[i])) << "frame " << f.index;
+		}
+		EXPECT_EQ(src.pass(), pass + 1);
+	}
+	EXPECT_EQ(src.counters().delivered, 12u);
+	EXPECT_EQ(src.counters().corrupt, 3u);
+	EXPECT_EQ(src.counters().dropped, 3u); // 13, 19 and 25: index 13 of each pass
+
+	// Reopening starts again at the first pass.
+	src.stop();
+	ASSERT_TRUE(src.open().ok());
+	ASSERT_TRUE(src.start().ok());
+	ASSERT_EQ(*src.next(f, 0ns), FrameOutcome::kFrame);
+	EXPECT_EQ(f.index, 10u);
+	EXPECT_EQ(src.pass(), 1u);
+}
+
+TEST(RecordingLoop, APassWithoutAGoodFrameEndsTheStream)
+{
+	const fs::path file = freshTempDir("rec_loop_bad") / "s.rec";
+	const TestStream s = testStream();
+	writeStream(file, s, false);
+	for (size_t pos = 0; pos < s.indices.size(); ++pos)
+		corruptPayload(file, pos, 7);
+
+	RecordingSourceOptions o;
+	o.loop = true;
+	RecordingSource src(file, o);
+	ASSERT_TRUE(src.open().ok());
+	ASSERT_TRUE(src.start().ok());
+	Frame f;
+	auto r = src.next(f, 0ns);
+	ASSERT_TRUE(r.ok());
+	EXPECT_EQ(*r, FrameOutcome::kEndOfStream);
+	EXPECT_EQ(src.counters().corrupt, 5u);
+	EXPECT_EQ(src.counters().delivered, 0u);
+}
+
+TEST(RecordingLoop, TheUriSaysLoopOrNot)
+{
+	const fs::path file = freshTempDir("rec_loop_uri") / "s.rec";
+	const TestStream s = testStream();
+	writeStream(file, s, false);
+	for (const char *query : {"?loop=1", "?loop=0", ""}) {
+		const std::string uri = "recording:" + file.string() + query;
+		auto made = makeFrameSource(uri);
+		ASSERT_TRUE(made.ok()) << made.error().message;
+		FrameSource &src = **made;
+		EXPECT_EQ(src.info().uri, uri);
+		ASSERT_TRUE(src.open().ok());
+		ASSERT_TRUE(src.start().ok());
+		Frame f;
+		std::vector<uint64_t> got;
+		for (int i = 0; i < 7; ++i) {
+			auto r = src.next(f, 0ns);
+			ASSERT_TRUE(r.ok());
+			if (*r != FrameOutcome::kFrame)
+				break;
+			got.push_back(f.index);
+		}
+		if (std::string(query) == "?loop=1")
+			EXPECT_EQ(got, (std::vector<uint64_t>{10, 11, 12, 14, 15, 16, 17}));
+		else
+			EXPECT_EQ(got, s.indices);
+	}
+	auto bad = makeFrameSource("recording:" + file.string() + "?loop=yes");
+	ASSERT_FALSE(bad.ok());
+	EXPECT_NE(bad.error().message.find("?loop=1"), std::string::npos) << bad.error().message;
+	EXPECT_FALSE(makeFrameSource("recording:?loop=1").ok());
 }
 
 TEST(RecordingDamage, TruncatedFileEndsCleanlyAfterTheCompleteFrames)

@@ -84,7 +84,8 @@ TEST_F(ForestCliTest, InfoPrintsTheSummary)
 TEST_F(ForestCliTest, CorruptFileExitsOne)
 {
 	test::Bytes b = test::readBytes(file_);
-	const auto *votes = test::findEntry(test::rawEntries(b), test::kRawVotes, 3);
+	const auto entries = test::rawEntries(b);
+	const auto *votes = test::findEntry(entries, test::kRawVotes, 3);
 	ASSERT_TRUE(votes && votes->size > 0);
 	b[votes->offset + 3] ^= 0xff;
 	const fs::path bad = dir_ / "bad.ihf";

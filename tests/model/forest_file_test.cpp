@@ -363,7 +363,8 @@ TEST_F(ForestFileTest, DepthLimit)
 	// split, making the chain 65 deep.
 	forest_ = chainForest(64, true);
 	Bytes b = test::readBytes(save(TemplateEncoding::kFloat32, "deep_forged.ihf"));
-	const auto *nodes = test::findEntry(test::rawEntries(b), test::kRawNodes, 0);
+	const auto entries = test::rawEntries(b);
+	const auto *nodes = test::findEntry(entries, test::kRawNodes, 0);
 	ASSERT_TRUE(nodes);
 	const size_t lastSplit = 2 * 62; // split 62, at depth 63
 	test::wr32(b, nodes->offset + 32 * lastSplit + 4, 127); // right child
@@ -456,7 +457,8 @@ TEST_F(ForestFileTest, WrongMagicVersionAndByteOrder)
 Bytes forgeNode(const Bytes &full, uint32_t node, size_t field, uint32_t value)
 {
 	Bytes b = full;
-	const auto *nodes = test::findEntry(test::rawEntries(b), test::kRawNodes, 1);
+	const auto entries = test::rawEntries(b);
+	const auto *nodes = test::findEntry(entries, test::kRawNodes, 1);
 	EXPECT_TRUE(nodes);
 	test::wr32(b, nodes->offset + 32 * size_t{node} + field, value);
 	test::resealCrcs(b);

@@ -261,14 +261,19 @@ inline const RawEntry *findEntry(const std::vector<RawEntry> &entries, uint32_t 
 			return &e;
 	return nullptr;
 }
+// The result points into the list: a temporary list would leave it dangling.
+const RawEntry *findEntry(std::vector<RawEntry> &&entries, uint32_t type, uint32_t tree = 0) = delete;
 
 // Recomputes every section CRC, the table CRC and the header CRC, so a
-// forged payload passes the checksums and reaches the structural checks.
+// forged payload passes the checksums and reaches the structural checks. A
+// section forged to run past the end of the file keeps its CRC: there are
+// no bytes to compute it over (the loader refuses it on its bounds).
 inline void resealCrcs(Bytes &b)
 {
 	const uint32_t count = rd32(b, 20);
 	for (const RawEntry &e : rawEntries(b))
-		wr32(b, e.at + 32, crcOf(b.data() + e.offset, e.size));
+		if (e.offset <= b.size() && e.size <= b.size() - e.offset)
+			wr32(b, e.at + 32, crcOf(b.data() + e.offset, e.size));
 	wr32(b, 36, crcOf(b.data() + 64, 48 * size_t{count}));
 	wr32(b, 32, 0);
 	wr32(b, 32, crcOf(b.data(), 64));

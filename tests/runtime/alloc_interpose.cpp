@@ -6,6 +6,15 @@
 #include <cstddef>
 #include <new>
 
+#if defined(__SANITIZE_ADDRESS__)
+#define IHF_ALLOC_HOOKS 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define IHF_ALLOC_HOOKS 1
+#endif
+#endif
+
+#ifndef IHF_ALLOC_HOOKS
 extern "C" {
 void *__libc_malloc(size_t size);
 void *__libc_calloc(size_t count, size_t size);
@@ -13,6 +22,7 @@ void *__libc_realloc(void *p, size_t size);
 void __libc_free(void *p);
 void *__libc_memalign(size_t alignment, size_t size);
 }
+#endif
 
 namespace {
 std::atomic<uint64_t> gAllocations{0};
@@ -23,6 +33,20 @@ void count()
 }
 } // namespace
 
+#ifdef IHF_ALLOC_HOOKS
+// AddressSanitizer owns malloc & co. (its own allocator, red zones): a
+// definition here would hand it glibc's blocks. Its allocator calls these
+// hooks on every allocation and free instead, operator new included.
+extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*mallocHook)(const volatile void *, size_t),
+							   void (*freeHook)(const volatile void *));
+namespace {
+void onAllocation(const volatile void *, size_t) { count(); }
+void onFree(const volatile void *) {}
+// Before main, as the replacements below are in force from the start.
+[[maybe_unused]] const int gHooksInstalled = __sanitizer_install_malloc_and_free_hooks(onAllocation, onFree);
+} // namespace
+#endif
+
 namespace ihf::test {
 
 uint64_t heapAllocations()
@@ -32,6 +56,7 @@ uint64_t heapAllocations()
 
 } // namespace ihf::test
 
+#ifndef IHF_ALLOC_HOOKS
 extern "C" {
 
 void *malloc(size_t size)
@@ -138,3 +163,4 @@ void operator delete(void *p, size_t, std::align_val_t) noexcept { free(p); }
 void operator delete[](void *p, size_t, std::align_val_t) noexcept { free(p); }
 void operator delete(void *p, std::align_val_t, const std::nothrow_t &) noexcept { free(p); }
 void operator delete[](void *p, std::align_val_t, const std::nothrow_t &) noexcept { free(p); }
+#endif // IHF_ALLOC_HOOKS

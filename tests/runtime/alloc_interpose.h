@@ -8,7 +8,9 @@
 // caller (libstdc++'s operator new included, which would otherwise reach
 // libc directly); the replacements forward to glibc's __libc_* entry points
 // and count each allocating call. (__malloc_hook is gone since glibc 2.34,
-// so interposition is the way.)
+// so interposition is the way.) Under AddressSanitizer, which brings its own
+// allocator, the same calls are counted by the allocator's malloc hook
+// (__sanitizer_install_malloc_and_free_hooks) instead.
 
 #include <cstdint>
 

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# The sanitizer lane: builds the debug preset (AddressSanitizer + UBSan,
+# build-debug/, no benchmarks) and runs every test under it (ctest --preset
+# debug: LeakSanitizer on, any UBSan report fails its test). Prints the
+# build and test wall times (BENCHMARKS.md, Edge targets and CI).
+#
+#   toolchain/run-sanitizer-tests.sh [ctest args]
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+t0=$SECONDS
+"$here/setup.sh" debug
+t1=$SECONDS
+cd "$(dirname "$here")"
+status=0
+ctest --preset debug "$@" || status=$?
+echo "sanitizers: build $((t1 - t0)) s, tests $((SECONDS - t1)) s, exit $status" >&2
+exit "$status"
