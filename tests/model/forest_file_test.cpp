@@ -246,7 +246,8 @@ TEST_F(ForestFileTest, FaceIndexWidthFollowsTheVertexCount)
 		mesh_.vertices.resize(vertices, Eigen::Vector3f(1, 2, 3));
 		mesh_.faces = {{0, 1, 2}, {uint32_t(vertices - 3), uint32_t(vertices - 2), uint32_t(vertices - 1)}};
 		const fs::path file = save(TemplateEncoding::kUint8, "big.ihf");
-		const auto *faces = test::findEntry(test::rawEntries(test::readBytes(file)), test::kRawFaces);
+		const auto entries = test::rawEntries(test::readBytes(file));
+		const auto *faces = test::findEntry(entries, test::kRawFaces);
 		ASSERT_TRUE(faces);
 		EXPECT_EQ(faces->elementSize, vertices <= 65536 ? 6u : 12u) << vertices;
 		auto model = loadModelFile(file);
@@ -650,7 +651,8 @@ TEST_F(ForestFileTest, ForgedTemplatesAndRotationsAreRefused)
 
 	// A float32 file claiming uint8 templates has no offsets.
 	b = test::readBytes(save(TemplateEncoding::kFloat32, "float.ihf"));
-	const auto *forest = test::findEntry(test::rawEntries(b), test::kRawForest);
+	const auto floatEntries = test::rawEntries(b);
+	const auto *forest = test::findEntry(floatEntries, test::kRawForest);
 	test::wr32(b, forest->offset + 4, 1);
 	test::resealCrcs(b);
 	e = loadErrorOf(b);
