@@ -9,7 +9,10 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 ihf="$root/build/bin/ihf"
 demo="$root/build/demo"
-if [ ! -f "$demo/bunny.rec" ] || [ ! -f "$demo/obj_000020.ihf" ] || [ ! -f "$demo/boxes.jsonl" ]; then
+# Made again when missing, or when the forest is of a file version this ihf
+# no longer reads.
+if [ ! -f "$demo/bunny.rec" ] || [ ! -f "$demo/boxes.jsonl" ] ||
+	! "$ihf" forest info "$demo/obj_000020.ihf" >/dev/null 2>&1; then
 	echo "demo: making the embedded default in $demo (synthetic scenes, small forest)" >&2
 	rm -rf "$demo"
 	mkdir -p "$demo"
