@@ -311,42 +311,6 @@ void PoseEstimator::keepIn(std::span<Hypothesis> kept, size_t &count, const Hypo
 	kept[pos] = h;
 }
 
-// Scores every bank rotation at each of the best distinct translations
-// found so far and keeps the best few of each (kept_ is then re-ranked by
-// keep()). Runs under the polish's budget check.
-void PoseEstimator::searchRotationBank(const CameraIntrinsics &K, const ObjectModel &model,
-				       const EstimatorConfig &config)
-{
-	constexpr int kMaxCentres = 4, kMaxKeep = 8;
-	const double diameter = model.params().diameter;
-	Eigen::Vector3d centres[kMaxCentres];
-	const int nc = keptCentres(diameter, std::min(kMaxCentres, config.bank.centres), centres);
-	const int size = rotationBankSize(config.bank);
-	const int keepN = std::clamp(config.bank.keep, 1, kMaxKeep);
-	const float same = static_cast<float>(0.05 * diameter);
-	for (int c = 0; c < nc; ++c) {
-		if (!planner_.stageFits(Stage::kBank, config.budgetMargin, false))
-			return;
-		const int64_t start = timer_.last();
-		Hypothesis top[kMaxKeep];
-		int nt = 0;
-		for (int i = 0; i < size; ++i) {
-			Hypothesis h;
-			h.pose.R = rotationBankEntry(config.bank, i);
-			h.pose.t = centres[c];
-			h.score = score(h.pose, K, model, config);
-			h.iteration = config.iterations + 1;
-			h.valid = true;
-			insertTop(h, top, nt, keepN);
-		}
-		for (int j = 0; j < nt; ++j) {
-			report(top[j].iteration, "bank", j, top[j].pose, top[j].score, 0);
-			keep(top[j], same);
-		}
-		planner_.observeStage(Stage::kBank, start, false);
-	}
-}
-
 // The distinct best hypotheses, then the forest's own bests after a
 // refinement (the registration's and the last iteration's) when they are
 // not among them: the view proposals outscore an unpolished forest mode
@@ -723,9 +687,7 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 	}
 	const int keepN = std::clamp(cfg.keep, 1, kMaxKeep);
 	const ViewTemplates &templates = model.viewTemplates();
-	// The inliers' pivot needs a render of its source: turns about it are
-	// rendered as before.
-	const bool screening = cfg.screen > 0 && !cfg.inlierPivot && !templates.empty();
+	const bool screening = cfg.screen > 0 && !templates.empty();
 	Hypothesis found = best;
 	for (int c = 0; c < ns; ++c) {
 		if (!planner_.stageFits(Stage::kHalfTurns, config.budgetMargin, true))
@@ -738,20 +700,13 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 		}
 		const std::optional<Eigen::Vector3d> shown = cfg.align ? shownCentroid(sources[c].pose, K, model)
 								      : std::nullopt;
-		std::optional<Eigen::Vector3d> pivot;
-		if (cfg.inlierPivot) {
-			if (renderPose(sources[c].pose, K, model)) {
-				if (const auto inliers = inlierCentroid(observedView_, renderView_, K, config.score.inlierMm))
-					pivot = sources[c].pose.R.transpose() * (*inliers - sources[c].pose.t);
-			}
-		}
 		Hypothesis top[kMaxKeep];
 		int nt = 0;
 		// The turns of a round of axes are posed and scored side by side on
 		// the pool's threads (each with its own render), then ranked in
 		// axis order as one thread would.
 		constexpr int kRound = 32;
-		Hypothesis turns[2 * kRound];
+		Hypothesis turns[kRound];
 		const auto consider = [&](Hypothesis &h, const Pose &pose, int slot) {
 			h.valid = pose.t.z() > 0;
 			if (!h.valid)
@@ -770,12 +725,9 @@ PoseEstimator::Hypothesis PoseEstimator::searchHalfTurns(const CameraIntrinsics 
 					if (const auto turned = shownCentroid(p, K, model, slot))
 						p.t += *shown - *turned;
 				}
-				consider(turns[2 * k], p, slot);
-				turns[2 * k + 1].valid = false;
-				if (pivot)
-					consider(turns[2 * k + 1], turnedAbout(sources[c].pose, turn, *pivot), slot);
+				consider(turns[k], p, slot);
 			});
-			for (int k = 0; k < 2 * na; ++k)
+			for (int k = 0; k < na; ++k)
 				if (turns[k].valid)
 					insertTop(turns[k], top, nt, keepN);
 		}
@@ -1378,17 +1330,15 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		out.reason = "no vote mode (no parts could be described)";
 		return out;
 	}
-	if (rotationBankSize(config.bank) > 0)
-		searchRotationBank(vk, model, config);
 	if (viewSearchSize(model.viewTemplates(), config.views) > 0)
 		searchViewTemplates(vk, model, config);
 	out.budgetStopped = planner_.boxCut();
 	Hypothesis best = kept_[0];
 
-	// Polish the best distinct hypotheses: a local search of the score, then
-	// ICP on the crop cut to the hypothesis' own depth range; the best score
-	// wins. Each polish must fit the budget.
-	const bool polish = config.icp || config.search.levels > 0;
+	// Polish the best distinct hypotheses: ICP on the crop cut to the
+	// hypothesis' own depth range; the best score wins. Each polish must fit
+	// the budget.
+	const bool polish = config.icp;
 	constexpr size_t kMaxPolished = 64; // polishes per box at most
 	Hypothesis candidates[kMaxPolished];
 	const size_t polishCount = polish ? polishCandidates(config, params.diameter, forestBest, candidates) : 0;
@@ -1398,7 +1348,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	// its own slot), and their results taken in candidate order as one
 	// thread would; the budget is checked before each round.
 	const size_t round = static_cast<size_t>(workers_.threads());
-	Hypothesis searched[kMaxPolished], icped[kMaxPolished];
+	Hypothesis icped[kMaxPolished];
 	for (size_t c0 = 0; c0 < polishCount; c0 += round) {
 		if (!planner_.polishFits(config.budgetMargin)) {
 			out.icpSkipped = true;
@@ -1408,33 +1358,11 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		const size_t n = std::min(round, polishCount - c0);
 		workers_.run(static_cast<int>(n), [&](int k, int slot) {
 			const size_t c = c0 + static_cast<size_t>(k);
-			Hypothesis cand = candidates[c];
-			searched[c] = Hypothesis{};
-			icped[c] = Hypothesis{};
-			if (config.search.levels > 0) {
-				LocalSearchResult r =
-					localPoseSearch(cand.pose, cand.score.score, config.search, [&](const Pose &p) {
-						return score(p, vk, model, config, slot).score;
-					});
-				if (r.score > cand.score.score) {
-					cand.pose = r.pose;
-					cand.score = score(r.pose, vk, model, config, slot);
-					searched[c] = cand;
-				}
-			}
-			if (config.icp)
-				icped[c] = polishOn(cand, vk, model, config, Stage::kIcp, slot, config.icpConfig);
+			const Hypothesis &cand = candidates[c];
+			icped[c] = polishOn(cand, vk, model, config, Stage::kIcp, slot, config.icpConfig);
 			polished[c] = icped[c].valid ? icped[c] : cand;
 		});
 		for (size_t c = c0; c < c0 + n; ++c) {
-			if (searched[c].valid) {
-				report(searched[c].iteration, "search", static_cast<int>(c), searched[c].pose,
-				       searched[c].score, 0);
-				if (searched[c].score.score > best.score.score) {
-					best = searched[c];
-					out.icpApplied = true;
-				}
-			}
 			if (icped[c].valid) {
 				report(icped[c].iteration, "icp", static_cast<int>(c), icped[c].pose, icped[c].score, 0);
 				if (icped[c].score.score > best.score.score) {
@@ -1468,21 +1396,6 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		if (turned.score.score > best.score.score) {
 			best = turned;
 			out.icpApplied = true;
-		}
-	}
-	if (config.icp && config.finalIcpIterations > 0 && polishCount > 0 && planner_.polishFits(config.budgetMargin)) {
-		IcpConfig last = config.icpConfig;
-		last.iterations = config.finalIcpIterations;
-		last.maxDistanceMm = last.minDistanceMm;
-		const int64_t icpStart = timer_.last();
-		const Hypothesis converged = polishOn(best, vk, model, config, Stage::kIcp, 0, last);
-		planner_.observePolish(icpStart);
-		if (converged.valid) {
-			report(converged.iteration, "icp_final", 0, converged.pose, converged.score, 0);
-			if (converged.score.score >= best.score.score) {
-				best = converged;
-				out.icpApplied = true;
-			}
 		}
 	}
 	out.bestIteration = best.iteration;

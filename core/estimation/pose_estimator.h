@@ -51,8 +51,6 @@
 #include "core/ibs/ibs_fitter.h"
 #include "core/model/object_model.h"
 #include "core/pose/half_turns.h"
-#include "core/pose/local_pose_search.h"
-#include "core/pose/rotation_bank.h"
 #include "core/pose/view_search.h"
 #include "core/pose/vote_modes.h"
 #include "core/render/depth_renderer.h"
@@ -225,8 +223,6 @@ private:
 	void keep(const Hypothesis &h, float sameTranslationMm, bool fromRefinement = false);
 	static void keepIn(std::span<Hypothesis> kept, size_t &count, const Hypothesis &h,
 			   float sameTranslationMm);
-	void searchRotationBank(const CameraIntrinsics &K, const ObjectModel &model,
-				const EstimatorConfig &config);
 	void searchViewTemplates(const CameraIntrinsics &K, const ObjectModel &model,
 				 const EstimatorConfig &config);
 	// One view search at `centre` (anchored in depth when anchor > 0), its
