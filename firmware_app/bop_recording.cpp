@@ -8,6 +8,7 @@
 
 #include "core/dataset/atomic_file.h"
 #include "core/dataset/bop_dataset.h"
+#include "core/dataset/bop_frames.h"
 #include "core/dataset/bop_io.h"
 #include "drivers/recording_writer.h"
 
@@ -16,9 +17,9 @@ namespace ihf {
 namespace {
 
 // The detections of one scene as `ihf run` box lines, one per recorded
-// image (frame index = image id), numbers exact.
+// image, numbers exact.
 Status writeBoxLines(const std::filesystem::path &out, const std::vector<Detection> &dets,
-		     int sceneId, const std::map<int, SceneCamera> &images)
+		     const BopScene &scene)
 {
 	auto num = [](std::string &s, double v) {
 		char buf[32];
@@ -26,11 +27,11 @@ Status writeBoxLines(const std::filesystem::path &out, const std::vector<Detecti
 		s.append(buf, ec == std::errc() ? p : buf);
 	};
 	std::string text;
-	for (const auto &[imId, cam] : images) {
-		text += "{\"frame\":" + std::to_string(imId) + ",\"boxes\":[";
+	for (const RecordedImage &image : recordedImages(scene)) {
+		text += "{\"frame\":" + std::to_string(image.frameIndex) + ",\"boxes\":[";
 		bool first = true;
 		for (const Detection &d : dets) {
-			if (d.sceneId != sceneId || d.imageId != imId)
+			if (d.sceneId != scene.sceneId || d.imageId != image.imageId)
 				continue;
 			text += first ? "" : ",";
 			first = false;
@@ -61,20 +62,10 @@ Expected<BopRecordingResult> recordBopScene(const BopRecordingRequest &r)
 	Expected<BopDataset> ds = BopDataset::open(r.dataset, r.split);
 	if (!ds)
 		return ds.error();
-	int sceneId = r.sceneId;
-	if (sceneId < 0) {
-		const std::vector<int> ids = ds->sceneIds();
-		if (ids.size() != 1) {
-			std::string list;
-			for (int id : ids)
-				list += (list.empty() ? "" : ", ") + std::to_string(id);
-			return makeError(Errc::kInvalidArgument,
-					 r.dataset.string() + "/" + ds->split() + " has " +
-						 std::to_string(ids.size()) + " scenes (" + list +
-						 "); choose one with --scene");
-		}
-		sceneId = ids.front();
-	}
+	Expected<int> chosen = recordedSceneId(*ds, r.sceneId);
+	if (!chosen)
+		return chosen.error();
+	const int sceneId = *chosen;
 	Expected<BopScene> scene = ds->loadScene(sceneId);
 	if (!scene)
 		return scene.error();
@@ -107,8 +98,8 @@ Expected<BopRecordingResult> recordBopScene(const BopRecordingRequest &r)
 		return writer.error();
 
 	int64_t n = 0;
-	for (const auto &[imId, cam] : scene->cameras) {
-		const std::filesystem::path png = ds->depthPath(sceneId, imId);
+	for (const RecordedImage &image : recordedImages(*scene)) {
+		const std::filesystem::path png = ds->depthPath(sceneId, image.imageId);
 		Expected<DepthImage16> depth = readDepthPng(png);
 		if (!depth)
 			return depth.error();
@@ -119,7 +110,7 @@ Expected<BopRecordingResult> recordBopScene(const BopRecordingRequest &r)
 						 std::to_string(header.intrinsics.width) + "x" +
 						 std::to_string(header.intrinsics.height));
 		const int64_t t = std::llround(static_cast<double>(n) * 1e9 / r.fps);
-		FrameStamp stamp{static_cast<uint64_t>(imId), t, t};
+		FrameStamp stamp{image.frameIndex, t, t};
 		if (Status s = writer->append(stamp, depth->view()); !s)
 			return s.error();
 		++n;
@@ -130,7 +121,7 @@ Expected<BopRecordingResult> recordBopScene(const BopRecordingRequest &r)
 		Expected<std::vector<Detection>> dets = readDetections(r.boxes);
 		if (!dets)
 			return dets.error();
-		if (Status st = writeBoxLines(r.boxesOut, *dets, sceneId, scene->cameras); !st)
+		if (Status st = writeBoxLines(r.boxesOut, *dets, *scene); !st)
 			return st.error();
 	}
 	return BopRecordingResult{sceneId, n};

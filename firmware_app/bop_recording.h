@@ -2,7 +2,8 @@
 #pragma once
 
 // One BOP scene as a recording: its depth images in image-id order become
-// the frames (frame index = image id; BOP has no timestamps, so frame n,
+// the frames (frame index = image id, core/dataset/bop_frames.h, which
+// `ihf eval --run-poses` maps back; BOP has no timestamps, so frame n,
 // 0-based, gets device and host timestamps n / fps), the intrinsics and
 // depth scale come from scene_camera.json. A recording has one camera, so a
 // scene whose cam_K or depth_scale changes between images is refused. With

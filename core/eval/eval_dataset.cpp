@@ -22,6 +22,44 @@ std::string rowName(const std::filesystem::path &file, size_t index, const Resul
 
 } // namespace
 
+Status checkDiameters(const BopDataset &dataset, const std::set<int> &objectIds)
+{
+	const std::filesystem::path infoFile = dataset.root() / "models" / "models_info.json";
+	const std::map<int, ModelInfo> &info = dataset.modelsInfo();
+	for (int id : objectIds) {
+		if (!info.count(id))
+			return makeError(Errc::kNotFound, "object " + std::to_string(id) + ": no entry in " +
+								  infoFile.string());
+		const double d = info.at(id).diameter;
+		if (!(d > 0) || !std::isfinite(d))
+			return makeError(Errc::kParse,
+					 infoFile.string() + ": \"" + std::to_string(id) +
+						 "\".diameter must be a positive number");
+	}
+	return {};
+}
+
+Expected<EvalModels> loadEvalModels(const BopDataset &dataset, const std::set<int> &objectIds)
+{
+	if (Status s = checkDiameters(dataset, objectIds); !s)
+		return s.error();
+	const std::map<int, ModelInfo> &info = dataset.modelsInfo();
+	EvalModels models;
+	for (int id : objectIds) {
+		Expected<Mesh> mesh = dataset.loadModel(id);
+		if (!mesh)
+			return mesh.error();
+		if (mesh->vertices.empty())
+			return makeError(Errc::kCorrupt,
+					 dataset.modelPath(id).string() + ": model has no vertices");
+		const PoseMetric metric = info.at(id).symmetric() ? PoseMetric::kAdi : PoseMetric::kAdd;
+		auto error = std::make_unique<ObjectPoseError>(std::move(mesh->vertices), metric);
+		models.objects[id] = {info.at(id).diameter, error.get()};
+		models.errors[id] = std::move(error);
+	}
+	return models;
+}
+
 Expected<EvalReport> evaluateOnDataset(const BopDataset &dataset,
 				       const std::vector<ResultRow> &results,
 				       const EvalRequest &request)
@@ -50,13 +88,8 @@ Expected<EvalReport> evaluateOnDataset(const BopDataset &dataset,
 			objectIds.insert(row.objId);
 		}
 	}
-	for (int id : objectIds) {
-		const double d = info.at(id).diameter;
-		if (!(d > 0) || !std::isfinite(d))
-			return makeError(Errc::kParse,
-					 infoFile.string() + ": \"" + std::to_string(id) +
-						 "\".diameter must be a positive number");
-	}
+	if (Status s = checkDiameters(dataset, objectIds); !s)
+		return s.error();
 
 	std::set<Triple> targeted;
 	if (request.targets) {
@@ -122,23 +155,10 @@ Expected<EvalReport> evaluateOnDataset(const BopDataset &dataset,
 		estimates.push_back(row);
 	}
 
-	// Models: every vertex, metric by symmetry.
-	std::map<int, std::unique_ptr<ObjectPoseError>> errors;
-	std::map<int, EvalObject> objects;
-	for (int id : objectIds) {
-		Expected<Mesh> mesh = dataset.loadModel(id);
-		if (!mesh)
-			return mesh.error();
-		if (mesh->vertices.empty())
-			return makeError(Errc::kCorrupt,
-					 dataset.modelPath(id).string() + ": model has no vertices");
-		const PoseMetric metric = info.at(id).symmetric() ? PoseMetric::kAdi : PoseMetric::kAdd;
-		auto error = std::make_unique<ObjectPoseError>(std::move(mesh->vertices), metric);
-		objects[id] = {info.at(id).diameter, error.get()};
-		errors[id] = std::move(error);
-	}
-
-	EvalReport report = evaluatePoses(objects, gts, estimates, request.zValues);
+	Expected<EvalModels> models = loadEvalModels(dataset, objectIds);
+	if (!models)
+		return models.error();
+	EvalReport report = evaluatePoses(models->objects, gts, estimates, request.zValues);
 	report.numIgnored = ignored;
 	return report;
 }

@@ -16,7 +16,10 @@
 //   A row naming an image that is not in the split is an error.
 
 #include <filesystem>
+#include <map>
+#include <memory>
 #include <optional>
+#include <set>
 #include <vector>
 
 #include "core/common/expected.h"
@@ -32,6 +35,20 @@ struct EvalRequest {
 	std::filesystem::path targetsFile;  // named in messages
 	std::vector<double> zValues = defaultZValues();
 };
+
+// The scoring of each object: its diameter (models_info.json, which must
+// list it with a positive diameter) and its error function over every vertex
+// of its model, ADI when models_info.json lists symmetries, else ADD.
+struct EvalModels {
+	std::map<int, EvalObject> objects; // points into `errors`
+	std::map<int, std::unique_ptr<ObjectPoseError>> errors;
+};
+
+Expected<EvalModels> loadEvalModels(const BopDataset &dataset, const std::set<int> &objectIds);
+
+// The models_info.json part of loadEvalModels alone: an entry with a
+// positive diameter for each object (cheap; checked before anything is read).
+Status checkDiameters(const BopDataset &dataset, const std::set<int> &objectIds);
 
 Expected<EvalReport> evaluateOnDataset(const BopDataset &dataset,
 				       const std::vector<ResultRow> &results,

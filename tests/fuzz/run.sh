@@ -38,13 +38,14 @@ declare -A seeds=(
 	[fuzz_depth_png]="tests/fuzz/corpus/depth_png tests/data/golden_frame.png
 		tests/data/fuzz/png_text_chunk_claims_2gb.png tests/data/fuzz/png_header_claims_32768x32768.png"
 	[fuzz_results_csv]="tests/fuzz/corpus/results_csv"
+	[fuzz_run_poses]="tests/fuzz/corpus/run_poses"
 	[fuzz_box_feed]="tests/fuzz/corpus/box_feed"
 	[fuzz_toml_config]="config/train.toml config/estimate.toml config/device.toml config/demo-train.toml"
 )
 names=("$@")
 if ((${#names[@]} == 0)); then
 	names=(fuzz_forest_file fuzz_recording fuzz_ply fuzz_mesh_import fuzz_bop_json fuzz_depth_png fuzz_results_csv
-		fuzz_box_feed fuzz_toml_config)
+		fuzz_run_poses fuzz_box_feed fuzz_toml_config)
 fi
 
 # One harness: seeds, run, and its line of the summary in $work/NAME.result
