@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 
+#include "core/estimation/view_proposals.h"
 #include "core/pose/half_turns.h"
 
 namespace ihf {

@@ -14,7 +14,6 @@ namespace ihf {
 class HalfTurnSource : public ProposalSource
 {
 public:
-	const char *name() const override { return "half_turn"; }
 	bool enabled(const ProposalBox &box) const override;
 	// Turns of `best` and of the best polished hypotheses unlike it;
 	// returns the best found (`best` when none scores higher).

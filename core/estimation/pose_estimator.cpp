@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/estimation/warm_up_scene.h"
 #include "core/pose/local_pose_search.h"
 #include "core/pose/rotation_bank.h"
 
@@ -39,7 +40,7 @@ size_t PoseEstimator::arenaBytes(const EstimatorLimits &limits)
 }
 
 PoseEstimator::PoseEstimator(const EstimatorLimits &limits, const Clock *clock)
-	: limits_(limits), workspace_(limits), planner_(clock)
+	: workspace_(limits), planner_(clock)
 {
 	workspace_.attachPool(pool_);
 }
@@ -120,17 +121,8 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 			 model);
 	HypothesisPolisher polisher(workspace_, voter_, timer_, scorer, config);
 	pool_.beginBox(crop.rotation, diameter, config.iterations);
-	ProposalBox proposals{config,
-			      model,
-			      boxAxes(openSides_),
-			      boundingBox(model.mesh()).centre().cast<double>(),
-			      requested.iterations,
-			      findSlabs(config, diameter),
-			      workspace_,
-			      scorer,
-			      pool_,
-			      polisher,
-			      planner_};
+	ProposalBox proposals{config, model, boxAxes(openSides_), boundingBox(model.mesh()).centre().cast<double>(),
+			      requested.iterations, findSlabs(config, diameter), workspace_, scorer, pool_, polisher, planner_};
 	planAfterPasses(proposals);
 
 	// The initial registration's votes, then k refinement iterations.
@@ -188,7 +180,7 @@ const char *PoseEstimator::startBox(ImageView<const float> depth, const CameraIn
 		return "estimator has no memory (arena allocation failed)";
 	if (model.renderMesh().vertices.size() > workspace_.renderCapacity())
 		return "model mesh larger than the estimator's render limit";
-	if (model.forest().dims > limits_.maxHistogramDims)
+	if (model.forest().dims > limits().maxHistogramDims)
 		return "forest histogram longer than the estimator's limit";
 	workspace_.setCulling(config.cullBackFaces && model.renderMeshClosed());
 	std::span<float> window = workspace_.cropBuffer();
@@ -249,13 +241,15 @@ void PoseEstimator::voteAndRefine(ProposalBox &box, HypothesisPolisher &polisher
 				  PoseEstimate &out)
 {
 	const EstimatorConfig &config = box.config;
+	// Refinement iterations vote leaner (the iteration* bounds).
+	const EstimatorConfig iterationCfg = forIterations(config);
 	std::optional<UnitCubeFrame> cube;
 	for (int k = 0; k <= config.iterations; ++k) {
 		if (k > 0 && !planner_.passFits(config.budgetMargin)) {
 			out.budgetStopped = true;
 			break;
 		}
-		const Hypothesis best = voteIteration(box, k, cube ? &*cube : nullptr, out);
+		const Hypothesis best = voteIteration(box, k, k > 0 ? iterationCfg : config, cube ? &*cube : nullptr, out);
 		if (!best.valid)
 			break;
 		out.iterationsDone = k;
@@ -268,14 +262,12 @@ void PoseEstimator::voteAndRefine(ProposalBox &box, HypothesisPolisher &polisher
 	}
 }
 
-Hypothesis PoseEstimator::voteIteration(ProposalBox &box, int k, const UnitCubeFrame *cube, PoseEstimate &out)
+Hypothesis PoseEstimator::voteIteration(ProposalBox &box, int k, const EstimatorConfig &voteCfg,
+					 const UnitCubeFrame *cube, PoseEstimate &out)
 {
 	const EstimatorConfig &config = box.config;
 	const ModelParams &params = box.model.params();
 	const CameraIntrinsics &vk = box.scorer.intrinsics();
-	// Refinement iterations vote leaner (the iteration* bounds).
-	const EstimatorConfig iterationCfg = k > 0 ? forIterations(config) : EstimatorConfig{};
-	const EstimatorConfig &voteCfg = k > 0 ? iterationCfg : config;
 	const VoteModeConfig modeCfg = voteModeConfig(config, voteCfg, params.diameter);
 	const size_t maxModes =
 		static_cast<size_t>(std::max(1, config.maxHypotheses)) * static_cast<size_t>(modeCfg.rotationModesPerCentre);
@@ -485,39 +477,10 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 {
 	if (!workspace_.valid())
 		return makeError(Errc::kCapacity, "estimator has no memory (arena allocation failed)");
-	const double diameter = model.params().diameter;
-	if (!(diameter > 0) || K.width <= 0 || K.height <= 0 || !(K.fx > 0) || !(K.fy > 0))
-		return makeError(Errc::kInvalidArgument, "warm-up needs a model diameter and the camera's intrinsics");
-	// The object across 80 % of the largest window's side, on the optical
-	// axis, turned so that no face is seen square on; a wall one diameter
-	// behind it gives the box a second depth slab, as a table or shelf does.
-	const double side = 0.8 * std::sqrt(static_cast<double>(limits_.maxWindowPixels));
-	Pose pose;
-	pose.R = Eigen::AngleAxisd(0.6, Eigen::Vector3d(1, 2, 0.5).normalized()).toRotationMatrix();
-	pose.t = Eigen::Vector3d(0, 0, std::max(1.5 * diameter, K.fx * diameter / side));
-	Image<float> depth(K.width, K.height, 0.0f);
 	workspace_.setCulling(config.cullBackFaces && model.renderMeshClosed());
-	auto rendered = workspace_.renderer().render(model.renderMesh(), pose, K, depth.view());
-	if (!rendered)
-		return rendered.error();
-	int x0 = K.width, y0 = K.height, x1 = -1, y1 = -1;
-	for (int y = 0; y < K.height; ++y)
-		for (int x = 0; x < K.width; ++x) {
-			float &d = depth.at(x, y);
-			if (d > 0) {
-				x0 = std::min(x0, x);
-				y0 = std::min(y0, y);
-				x1 = std::max(x1, x);
-				y1 = std::max(y1, y);
-			} else {
-				d = static_cast<float>(pose.t.z() + diameter);
-			}
-		}
-	if (x1 < x0)
-		return makeError(Errc::kInvalidArgument, "warm-up: the model is not in the camera's view");
-	// A detector's box, 10 % larger than the object's.
-	const int mx = (x1 - x0) / 20 + 1, my = (y1 - y0) / 20 + 1;
-	const PixelBox box{x0 - mx, y0 - my, x1 - x0 + 1 + 2 * mx, y1 - y0 + 1 + 2 * my};
+	auto scene = makeWarmUpScene(model, K, limits().maxWindowPixels, workspace_.renderer());
+	if (!scene)
+		return scene.error();
 
 	// The box runs as a frame's only box would: its share is the frame
 	// (an unlimited frame: no share profile).
@@ -529,7 +492,7 @@ Expected<WarmUpCost> PoseEstimator::warmUp(const ObjectModel &model, const Camer
 	EstimateObserver *observer = pool_.observer();
 	pool_.setObserver(nullptr);
 	beginFrame(1, 0);
-	const PoseEstimate e = estimate(depth.view(), K, box, model, c);
+	const PoseEstimate e = estimate(scene->depth.view(), K, scene->box, model, c);
 	endFrame();
 	pool_.setObserver(observer);
 

@@ -95,7 +95,7 @@ public:
 	PoseEstimator(const PoseEstimator &) = delete;
 	PoseEstimator &operator=(const PoseEstimator &) = delete;
 
-	const EstimatorLimits &limits() const { return limits_; }
+	const EstimatorLimits &limits() const { return workspace_.limits(); }
 
 	// Arena bytes for the limits: persistent buffers plus the scratch of a
 	// box of maxWindowPixels.
@@ -176,11 +176,12 @@ private:
 	size_t findSlabs(const EstimatorConfig &config, double diameter);
 	// Tells the planner what the box runs after its vote passes.
 	void planAfterPasses(const ProposalBox &box);
-	// Iteration k's votes (k = 0: the initial registration, one pass per
-	// slab; k > 0: a refinement on the masked crop, normalised with `cube`
-	// when given), their modes scored and kept; returns the iteration's
-	// best.
-	Hypothesis voteIteration(ProposalBox &box, int k, const UnitCubeFrame *cube, PoseEstimate &out);
+	// Iteration k's votes cast with voteCfg (k = 0: the initial
+	// registration, one pass per slab; k > 0: a refinement on the masked
+	// crop, normalised with `cube` when given), their modes scored and
+	// kept; returns the iteration's best.
+	Hypothesis voteIteration(ProposalBox &box, int k, const EstimatorConfig &voteCfg, const UnitCubeFrame *cube,
+				 PoseEstimate &out);
 	// The registration, then k refinement iterations, each under the
 	// budget; bests[0] gets the registration's best, bests[1] the last
 	// refinement's.
@@ -196,7 +197,6 @@ private:
 	void finish(const ProposalBox &box, const Eigen::Matrix3d &cropRotation, const Hypothesis &best,
 		    PoseEstimate &out) const;
 
-	EstimatorLimits limits_;
 	EstimatorWorkspace workspace_;
 	// Clock, stage timer, frame budget, cost models and the box's plan:
 	// asked before every stage that can be cut.

@@ -43,25 +43,12 @@ class ProposalSource
 {
 public:
 	virtual ~ProposalSource() = default;
-	virtual const char *name() const = 0;
 	// Whether the source runs in this box (its settings, the model).
 	virtual bool enabled(const ProposalBox &box) const = 0;
 	// Proposes hypotheses; `best` is the best so far, `polished` the polish
-	// results. Returns the best hypothesis it found (invalid: none).
+	// results. Returns the best hypothesis it found (or `best`, or an
+	// invalid one); the estimator takes it when it scores higher.
 	virtual Hypothesis propose(ProposalBox &box, const Hypothesis &best, std::span<const Hypothesis> polished) = 0;
 };
-
-// The view search's settings with the score's weights: its sparse score
-// ranks by the same rule as the full one.
-ViewSearchConfig viewScoring(const EstimatorConfig &config);
-// Proposals a view search returns (ViewSearchConfig::keep).
-size_t viewKeep(const EstimatorConfig &config);
-// Voted translations a box searches (ViewSearchConfig::centres).
-int votedCentres(const EstimatorConfig &config);
-// Proposals of a re-search round that are polished.
-size_t researchPolished(const EstimatorConfig &config);
-// Refinement's re-search rounds: at most the requested k, whatever the
-// budget's bound on the iterations; none without the view search.
-int researchRounds(const EstimatorConfig &config, int requestedIterations, const ObjectModel &model);
 
 } // namespace ihf

@@ -7,6 +7,18 @@
 
 namespace ihf {
 
+size_t researchPolished(const EstimatorConfig &config)
+{
+	return std::min(viewKeep(config), static_cast<size_t>(std::max(0, config.researchPolish)));
+}
+
+int researchRounds(const EstimatorConfig &config, int requestedIterations, const ObjectModel &model)
+{
+	if (!(viewSearchSize(model.viewTemplates(), config.views) > 0))
+		return 0;
+	return std::max(0, std::min(config.researchRounds, requestedIterations));
+}
+
 bool ResearchSource::enabled(const ProposalBox &box) const
 {
 	return researchRounds(box.config, box.requestedIterations, box.model) > 0;

@@ -16,10 +16,15 @@
 
 namespace ihf {
 
+// Proposals of a re-search round that are polished.
+size_t researchPolished(const EstimatorConfig &config);
+// Refinement's re-search rounds: at most the requested k, whatever the
+// budget's bound on the iterations; none without the view search.
+int researchRounds(const EstimatorConfig &config, int requestedIterations, const ObjectModel &model);
+
 class ResearchSource : public ProposalSource
 {
 public:
-	const char *name() const override { return "research"; }
 	bool enabled(const ProposalBox &box) const override;
 	// Rounds from `best`, each only if it fits the budget with its polish;
 	// returns the best found (`best` when none is better).

@@ -35,18 +35,6 @@ int votedCentres(const EstimatorConfig &config)
 	return std::clamp(config.views.centres, 1, kMaxViewCentres);
 }
 
-size_t researchPolished(const EstimatorConfig &config)
-{
-	return std::min(viewKeep(config), static_cast<size_t>(std::max(0, config.researchPolish)));
-}
-
-int researchRounds(const EstimatorConfig &config, int requestedIterations, const ObjectModel &model)
-{
-	if (!(viewSearchSize(model.viewTemplates(), config.views) > 0))
-		return 0;
-	return std::max(0, std::min(config.researchRounds, requestedIterations));
-}
-
 size_t searchScored(ProposalBox &box, const Eigen::Vector3d &centre, float anchor, const char *stage,
 		    std::span<Hypothesis> out)
 {

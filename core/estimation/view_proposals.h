@@ -12,6 +12,14 @@
 
 namespace ihf {
 
+// The view search's settings with the score's weights: its sparse score
+// ranks by the same rule as the full one.
+ViewSearchConfig viewScoring(const EstimatorConfig &config);
+// Proposals a view search returns (ViewSearchConfig::keep).
+size_t viewKeep(const EstimatorConfig &config);
+// Voted translations a box searches (ViewSearchConfig::centres).
+int votedCentres(const EstimatorConfig &config);
+
 // One view search at `centre` (anchored in depth when anchor > 0): its
 // proposals scored in full and reported under `stage`, into out (at most
 // out.size()); returns how many.
@@ -21,7 +29,6 @@ size_t searchScored(ProposalBox &box, const Eigen::Vector3d &centre, float ancho
 class ViewTemplateSource : public ProposalSource
 {
 public:
-	const char *name() const override { return "view"; }
 	bool enabled(const ProposalBox &box) const override;
 	// Keeps its proposals in the box's pool; returns the best.
 	Hypothesis propose(ProposalBox &box, const Hypothesis &best, std::span<const Hypothesis> polished) override;
