@@ -329,7 +329,7 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	EstimateSettings s;
 	if (path.empty())
 		return s;
-	auto parsed = openConfig(path, {"refinement", "votes", "boxes", "score", "modal_boxes", "icp", "search", "view_search", "half_turns", "confidence", "render_mesh", "budget", "limits"});
+	auto parsed = openConfig(path, {"refinement", "votes", "boxes", "score", "modal_boxes", "icp", "view_search", "half_turns", "confidence", "render_mesh", "budget", "limits"});
 	if (!parsed)
 		return parsed.error();
 	const toml::table &root = *parsed;
@@ -394,23 +394,11 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	icp.get("candidates", e.icpCandidates);
 	icp.get("forest_bests", e.polishForestBests);
 	icp.get("registration_candidates", e.polishRegistration);
-	icp.get("final_iterations", e.finalIcpIterations);
 	icp.get("iterations", e.icpConfig.iterations);
 	icp.get("max_distance_mm", e.icpConfig.maxDistanceMm);
 	icp.get("min_distance_mm", e.icpConfig.minDistanceMm);
 	icp.get("render_once", e.icpConfig.renderOnce);
 	IHF_SECTION(icp);
-
-	TableReader search(root["search"].as_table(), file, "search");
-	search.get("levels", e.search.levels);
-	search.get("rotation_step_deg", e.search.rotationStepDeg);
-	search.get("translation_step_mm", e.search.translationStepMm);
-	search.get("max_passes", e.search.maxPasses);
-	search.get("bank_viewpoints", e.bank.viewpoints);
-	search.get("bank_inplane", e.bank.inplane);
-	search.get("bank_centres", e.bank.centres);
-	search.get("bank_keep", e.bank.keep);
-	IHF_SECTION(search);
 
 	TableReader views(root["view_search"].as_table(), file, "view_search");
 	views.get("inplane", e.views.inplane);
@@ -455,7 +443,6 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 	turns.get("axes", e.halfTurns.axes);
 	turns.get("keep", e.halfTurns.keep);
 	turns.get("align", e.halfTurns.align);
-	turns.get("inlier_pivot", e.halfTurns.inlierPivot);
 	turns.get("screen", e.halfTurns.screen);
 	turns.get("box_axes", e.halfTurns.boxAxes);
 	IHF_SECTION(turns);
@@ -536,15 +523,6 @@ Expected<EstimateSettings> loadEstimateConfig(const std::filesystem::path &path)
 				  "modal_boxes.box_occluded_side"),
 			  inRange(e.score.residualWeight >= 0 && e.score.residualWeight <= 1, "score.residual_weight"),
 			  inRange(e.icpCandidates >= 0, "icp.candidates"),
-			  inRange(e.finalIcpIterations >= 0 && e.finalIcpIterations <= 100, "icp.final_iterations"),
-			  inRange(e.search.levels >= 0, "search.levels"),
-			  inRange(e.search.rotationStepDeg > 0, "search.rotation_step_deg"),
-			  inRange(e.search.translationStepMm >= 0, "search.translation_step_mm"),
-			  inRange(e.search.maxPasses >= 1, "search.max_passes"),
-			  inRange(e.bank.viewpoints >= 0, "search.bank_viewpoints"),
-			  inRange(e.bank.inplane >= 1, "search.bank_inplane"),
-			  inRange(e.bank.centres >= 1 && e.bank.centres <= 4, "search.bank_centres"),
-			  inRange(e.bank.keep >= 1 && e.bank.keep <= 8, "search.bank_keep"),
 			  inRange(e.views.inplane >= 0 && e.views.inplane <= kMaxInplane, "view_search.inplane"),
 			  inRange(e.views.centres >= 1 && e.views.centres <= 4, "view_search.centres"),
 			  inRange(e.views.depthCentres >= 0 && e.views.depthCentres <= 4, "view_search.depth_centres"),

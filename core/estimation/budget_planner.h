@@ -90,7 +90,7 @@ public:
 	bool researchFits(double margin, int polishRounds);
 	// A polish round (ICP and its score); refusals counted apart.
 	bool polishFits(double margin);
-	// One run of `stage` (the rotation bank, the half-turns).
+	// One run of `stage` (the half-turns).
 	bool stageFits(Stage stage, double margin, bool scalesWithBox);
 	// The search's prediction eases (StageCostModel::refused()): wanted
 	// but refused, it is not measured again otherwise.

@@ -11,8 +11,6 @@
 #include "core/estimation/icp_refiner.h"
 #include "core/estimation/rival_poses.h"
 #include "core/pose/half_turns.h"
-#include "core/pose/local_pose_search.h"
-#include "core/pose/rotation_bank.h"
 #include "core/pose/view_search.h"
 
 namespace ihf {
@@ -60,18 +58,6 @@ struct EstimatorConfig {
 	// registration alone would have polished to the truth.
 	bool polishRegistration = true;
 	IcpConfig icpConfig;
-	// The winner's last polish: this many more ICP iterations, every one
-	// at icpConfig's final gate (minDistanceMm), kept when the score does
-	// not drop. The candidates' ICP narrows its gate over its iterations
-	// and stops where that schedule ends, not where the fit has
-	// converged. 0: off.
-	int finalIcpIterations = 0;
-	// Score hill climbing of the polished hypotheses before their ICP.
-	LocalSearchConfig search;
-	// Every bank rotation scored at the best distinct translations after
-	// the refinement; the best join the hypotheses to polish. Not in the
-	// paper (its rotation comes from the votes alone).
-	RotationBankConfig bank;
 	// Every rotation of the model's view templates verified at the best
 	// distinct translations (view_search.h); the best join the hypotheses
 	// to polish. Not in the paper. Its weights follow `score`.

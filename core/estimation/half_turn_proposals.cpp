@@ -66,9 +66,7 @@ Hypothesis HalfTurnSource::propose(ProposalBox &box, const Hypothesis &best, std
 	Hypothesis sources[kMaxSources];
 	const size_t ns = turnSources(best, polished, cfg.candidates, box.model.params().diameter, sources);
 	const int keepN = std::clamp(cfg.keep, 1, kMaxHalfTurnKeep);
-	// The inliers' pivot needs a render of its source: turns about it are
-	// rendered as before.
-	const bool screening = cfg.screen > 0 && !cfg.inlierPivot && !box.model.viewTemplates().empty();
+	const bool screening = cfg.screen > 0 && !box.model.viewTemplates().empty();
 	Hypothesis found = best;
 	for (size_t c = 0; c < ns; ++c) {
 		if (!box.planner.stageFits(Stage::kHalfTurns, box.config.budgetMargin, true))
@@ -94,16 +92,8 @@ void HalfTurnSource::scoreTurns(ProposalBox &box, const Hypothesis &source, Fixe
 	const HalfTurnConfig &cfg = box.config.halfTurns;
 	const Eigen::Vector3d &centre = box.modelCentre;
 	const std::optional<Eigen::Vector3d> shown = cfg.align ? box.scorer.shownCentroid(source.pose) : std::nullopt;
-	std::optional<Eigen::Vector3d> pivot;
-	if (cfg.inlierPivot) {
-		if (box.scorer.render(source.pose)) {
-			if (const auto inliers = inlierCentroid(box.scorer.window().observed, box.workspace.slot(0).render,
-								box.scorer.intrinsics(), box.config.score.inlierMm))
-				pivot = source.pose.R.transpose() * (*inliers - source.pose.t);
-		}
-	}
 	constexpr int kRound = 32;
-	Hypothesis turns[2 * kRound];
+	Hypothesis turns[kRound];
 	const int turnCount = halfTurnCount(cfg);
 	for (int i0 = 0; i0 < turnCount; i0 += kRound) {
 		const int na = std::min(kRound, turnCount - i0);
@@ -114,12 +104,9 @@ void HalfTurnSource::scoreTurns(ProposalBox &box, const Hypothesis &source, Fixe
 				if (const auto turned = box.scorer.shownCentroid(p, slot))
 					p.t += *shown - *turned;
 			}
-			scoreTurn(box, source, p, slot, turns[2 * k]);
-			turns[2 * k + 1].valid = false;
-			if (pivot)
-				scoreTurn(box, source, turnedAbout(source.pose, turn, *pivot), slot, turns[2 * k + 1]);
+			scoreTurn(box, source, p, slot, turns[k]);
 		});
-		for (int k = 0; k < 2 * na; ++k)
+		for (int k = 0; k < na; ++k)
 			if (turns[k].valid)
 				insertByScore(top, turns[k]);
 	}

@@ -66,25 +66,6 @@ HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const
 	return s;
 }
 
-std::optional<Eigen::Vector3d> inlierCentroid(ImageView<const float> observed, ImageView<const float> rendered,
-					       const CameraIntrinsics &K, float inlierMm, int minInliers)
-{
-	Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-	int n = 0;
-	for (int y = 0; y < rendered.height; ++y) {
-		const float *r = rendered.row(y);
-		const float *o = observed.row(y);
-		for (int x = 0; x < rendered.width; ++x)
-			if (r[x] > 0 && o[x] > 0 && std::abs(o[x] - r[x]) <= inlierMm) {
-				sum += K.backProject(x, y, r[x]);
-				++n;
-			}
-	}
-	if (n < std::max(1, minInliers))
-		return std::nullopt;
-	return sum / n;
-}
-
 OpenSides occludedSides(ImageView<const float> observed, ImageView<const float> rendered,
 			const ScoreConfig &config, OpenSides open)
 {

@@ -84,12 +84,6 @@ struct HypothesisScore {
 HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const float> rendered,
 				const ScoreConfig &config);
 
-// The centroid (camera frame) of the rendered surface where it agrees with
-// the observed depth within inlierMm (a hypothesis' inliers); nullopt when
-// fewer than minInliers pixels agree.
-std::optional<Eigen::Vector3d> inlierCentroid(ImageView<const float> observed, ImageView<const float> rendered,
-					       const CameraIntrinsics &K, float inlierMm, int minInliers = 16);
-
 // The box factor above for a pose in the camera `window` whose image is the
 // given box (pixels [0, width) x [0, height)). The projected extent is the
 // bounding box of at most ~512 evenly strided mesh vertices. Overhang past

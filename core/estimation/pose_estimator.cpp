@@ -6,8 +6,6 @@
 #include <limits>
 
 #include "core/estimation/warm_up_scene.h"
-#include "core/pose/local_pose_search.h"
-#include "core/pose/rotation_bank.h"
 
 namespace ihf {
 
@@ -134,8 +132,6 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	}
 
 	// Proposals the votes did not give, kept with theirs.
-	if (rotationBankSize(config.bank) > 0)
-		searchRotationBank(proposals);
 	if (views_.enabled(proposals))
 		views_.propose(proposals, {}, {});
 	out.budgetStopped = planner_.boxCut();
@@ -153,8 +149,6 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	}
 	if (halfTurns_.enabled(proposals))
 		out.icpApplied |= takeBetter(best, halfTurns_.propose(proposals, best, polished.items()));
-	if (polished.candidates > 0)
-		polishWinner(proposals, best, out);
 
 	finish(proposals, crop.rotation, best, out);
 	return out;
@@ -309,59 +303,22 @@ Hypothesis PoseEstimator::voteIteration(ProposalBox &box, int k, const Estimator
 	return best;
 }
 
-// Scores every bank rotation at each of the best distinct translations
-// found so far and keeps the best few of each. Runs under the polish's
-// budget check.
-void PoseEstimator::searchRotationBank(ProposalBox &box)
-{
-	constexpr int kMaxCentres = 4, kMaxKeep = 8;
-	const EstimatorConfig &config = box.config;
-	Eigen::Vector3d centres[kMaxCentres];
-	const size_t nc = pool_.distinctCentres(
-		0.1 * box.model.params().diameter,
-		std::span<Eigen::Vector3d>(centres, static_cast<size_t>(std::clamp(config.bank.centres, 0, kMaxCentres))));
-	const int size = rotationBankSize(config.bank);
-	const size_t keepN = static_cast<size_t>(std::clamp(config.bank.keep, 1, kMaxKeep));
-	for (size_t c = 0; c < nc; ++c) {
-		if (!planner_.stageFits(Stage::kBank, config.budgetMargin, false))
-			return;
-		const int64_t start = timer_.last();
-		FixedList<Hypothesis, kMaxKeep> storage;
-		FixedListBase<Hypothesis> top(std::span<Hypothesis>(storage.begin(), keepN));
-		for (int i = 0; i < size; ++i) {
-			Hypothesis h;
-			h.pose.R = rotationBankEntry(config.bank, i);
-			h.pose.t = centres[c];
-			h.score = box.scorer.score(h.pose);
-			h.origin = HypothesisOrigin::kProposal;
-			h.valid = true;
-			insertByScore(top, h);
-		}
-		for (size_t j = 0; j < top.size(); ++j) {
-			pool_.report(top[j], "bank", static_cast<int>(j));
-			pool_.keep(top[j]);
-		}
-		planner_.observeStage(Stage::kBank, start, false);
-	}
-}
-
-// Each candidate gets a local search of the score (LocalSearchConfig), then
-// ICP on the crop cut to its own depth range. Candidates are polished in
-// rounds, one per pool thread (each polish on its own slot), and their
-// results taken in candidate order as one thread would; the budget is
-// checked before each round.
+// Each candidate is polished by ICP on the crop cut to its own depth range.
+// Candidates are polished in rounds, one per pool thread (each polish on its
+// own slot), and their results taken in candidate order as one thread
+// would; the budget is checked before each round.
 void PoseEstimator::polishCandidates(ProposalBox &box, const Hypothesis (&forestBests)[2], Polished &polished,
 				     Hypothesis &best, PoseEstimate &out)
 {
 	const EstimatorConfig &config = box.config;
-	if (!(config.icp || config.search.levels > 0))
+	if (!config.icp)
 		return;
 	FixedList<Hypothesis, kMaxPolished> candidates;
 	pool_.polishCandidates({config.icpCandidates, config.polishRegistration, config.polishForestBests},
 			       forestBests[0], forestBests[1], candidates);
 	polished.candidates = candidates.size();
 	const size_t round = static_cast<size_t>(box.polisher.threads());
-	Hypothesis searched[kMaxPolished], icped[kMaxPolished];
+	Hypothesis icped[kMaxPolished];
 	for (size_t c0 = 0; c0 < candidates.size(); c0 += round) {
 		if (!planner_.polishFits(config.budgetMargin)) {
 			out.icpSkipped = true;
@@ -369,30 +326,9 @@ void PoseEstimator::polishCandidates(ProposalBox &box, const Hypothesis (&forest
 		}
 		const int64_t icpStart = timer_.last();
 		const size_t n = std::min(round, candidates.size() - c0);
-		workspace_.workers().run(static_cast<int>(n), [&](int k, int slot) {
-			const size_t c = c0 + static_cast<size_t>(k);
-			Hypothesis cand = candidates[c];
-			searched[c] = Hypothesis{};
-			icped[c] = Hypothesis{};
-			if (config.search.levels > 0) {
-				LocalSearchResult r =
-					localPoseSearch(cand.pose, cand.score.score, config.search,
-							[&](const Pose &p) { return box.scorer.score(p, slot).score; });
-				if (r.score > cand.score.score) {
-					cand.pose = r.pose;
-					cand.score = box.scorer.score(r.pose, slot);
-					searched[c] = cand;
-				}
-			}
-			if (config.icp)
-				icped[c] = box.polisher.polish(cand, Stage::kIcp, slot, config.icpConfig);
-			polished.results[c] = icped[c].valid ? icped[c] : cand;
-		});
+		box.polisher.polishAll(candidates.items().subspan(c0, n), std::span<Hypothesis>(icped + c0, n), Stage::kIcp);
 		for (size_t c = c0; c < c0 + n; ++c) {
-			if (searched[c].valid) {
-				pool_.report(searched[c], "search", static_cast<int>(c));
-				out.icpApplied |= takeBetter(best, searched[c]);
-			}
+			polished.results[c] = icped[c].valid ? icped[c] : candidates[c];
 			if (icped[c].valid) {
 				pool_.report(icped[c], "icp", static_cast<int>(c));
 				out.icpApplied |= takeBetter(best, icped[c]);
@@ -402,26 +338,6 @@ void PoseEstimator::polishCandidates(ProposalBox &box, const Hypothesis (&forest
 		// The cost model sees the whole round (its clouds are counted
 		// under the cloud stage on one thread, under ICP on more).
 		planner_.observePolish(icpStart);
-	}
-}
-
-void PoseEstimator::polishWinner(ProposalBox &box, Hypothesis &best, PoseEstimate &out)
-{
-	const EstimatorConfig &config = box.config;
-	if (!(config.icp && config.finalIcpIterations > 0 && planner_.polishFits(config.budgetMargin)))
-		return;
-	IcpConfig last = config.icpConfig;
-	last.iterations = config.finalIcpIterations;
-	last.maxDistanceMm = last.minDistanceMm;
-	const int64_t icpStart = timer_.last();
-	const Hypothesis converged = box.polisher.polish(best, Stage::kIcp, 0, last);
-	planner_.observePolish(icpStart);
-	if (converged.valid) {
-		pool_.report(converged, "icp_final", 0);
-		if (converged.score.score >= best.score.score) {
-			best = converged;
-			out.icpApplied = true;
-		}
 	}
 }
 

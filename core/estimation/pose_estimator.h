@@ -186,13 +186,10 @@ private:
 	// budget; bests[0] gets the registration's best, bests[1] the last
 	// refinement's.
 	void voteAndRefine(ProposalBox &box, HypothesisPolisher &polisher, Hypothesis (&bests)[2], PoseEstimate &out);
-	void searchRotationBank(ProposalBox &box);
 	// The chosen candidates polished in rounds of the pool's threads, each
 	// round under the budget; best takes any better polish.
 	void polishCandidates(ProposalBox &box, const Hypothesis (&forestBests)[2], Polished &polished,
 			      Hypothesis &best, PoseEstimate &out);
-	// The winner's last polish (EstimatorConfig::finalIcpIterations).
-	void polishWinner(ProposalBox &box, Hypothesis &best, PoseEstimate &out);
 	// The pose in the real camera, its score and confidence.
 	void finish(const ProposalBox &box, const Eigen::Matrix3d &cropRotation, const Hypothesis &best,
 		    PoseEstimate &out) const;

@@ -27,19 +27,12 @@ struct HalfTurnConfig {
 	int axes = 64;      // half-turn axes over the hemisphere
 	int keep = 2;       // best-scoring turns per candidate that get an ICP polish (<= kMaxHalfTurnKeep)
 	bool align = true;  // move each turn so the surface it shows sits where the candidate's did
-	// Also turn about the centroid of the candidate's inliers (the model
-	// surface that agrees with the scene): the part of a wrong pose that
-	// fits is where the object is, so a half-turn about it keeps that part
-	// in place. A failure seen on syn200: the can upside down and 74 mm along its axis
-	// from the truth, which the centroid alignment above misses; on the
-	// 8 x 200 synthetic boxes a wash (config/estimate.toml), so off.
-	bool inlierPivot = false;
 	// Screen the turns before rendering any: each is placed (`align`) and
 	// scored on the view template nearest it (view_search.h,
 	// sparsePoseScore), and only the `screen` best are rendered and scored
 	// in full; a render of every turn was most of a half-turn search's
 	// time. 0: every turn rendered (placed by the centroid of its render),
-	// as also without templates or with inlierPivot. At most
+	// as also without templates. At most
 	// kMaxHalfTurnScreen.
 	int screen = 8;
 	// Also turn about the model frame's own three axes, the axes of its

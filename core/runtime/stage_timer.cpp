@@ -18,7 +18,6 @@ const char *stageName(Stage stage)
 	case Stage::kForest: return "forest";
 	case Stage::kModes: return "vote_modes";
 	case Stage::kScore: return "render_score";
-	case Stage::kBank: return "bank";
 	case Stage::kViews: return "views";
 	case Stage::kIcp: return "icp";
 	case Stage::kHalfTurns: return "half_turns";

@@ -28,7 +28,6 @@ enum class Stage : uint8_t {
 	kForest,    // forest walk, incl. the per-node depth-checked histograms
 	kModes,     // vote mode finding
 	kScore,     // rendering and scoring the hypotheses
-	kBank,      // rotation bank at the best translations (optional)
 	kViews,     // view-template rotation search at the best translations (optional)
 	kIcp,       // final ICP polish and its score
 	kHalfTurns, // half-turns of the polished best, scored and polished (optional)

@@ -199,7 +199,6 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.polishForestBests, b.polishForestBests);
 	EXPECT_EQ(a.polishRegistration, b.polishRegistration);
 	EXPECT_EQ(a.cullBackFaces, b.cullBackFaces);
-	EXPECT_EQ(a.finalIcpIterations, b.finalIcpIterations);
 	EXPECT_EQ(a.targetParts, b.targetParts);
 	EXPECT_EQ(a.iterationTargetParts, b.iterationTargetParts);
 	EXPECT_EQ(a.iterationIbsMaxPoints, b.iterationIbsMaxPoints);
@@ -230,8 +229,6 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.shortOccludedWeight, b.shortOccludedWeight);
 	EXPECT_EQ(a.icpConfig.renderOnce, b.icpConfig.renderOnce);
 	EXPECT_EQ(none->limits.threads, bundled->limits.threads);
-	EXPECT_EQ(a.search.levels, b.search.levels);
-	EXPECT_EQ(a.bank.viewpoints, b.bank.viewpoints);
 	EXPECT_EQ(a.score.outlierWeight, b.score.outlierWeight);
 	EXPECT_EQ(a.score.occludedWeight, b.score.occludedWeight);
 	EXPECT_EQ(a.score.boxWeight, b.score.boxWeight);
@@ -271,7 +268,6 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	EXPECT_EQ(a.halfTurns.axes, b.halfTurns.axes);
 	EXPECT_EQ(a.halfTurns.keep, b.halfTurns.keep);
 	EXPECT_EQ(a.halfTurns.align, b.halfTurns.align);
-	EXPECT_EQ(a.halfTurns.inlierPivot, b.halfTurns.inlierPivot);
 	EXPECT_EQ(a.halfTurns.screen, b.halfTurns.screen);
 	EXPECT_EQ(a.confidence.distinctShare, b.confidence.distinctShare);
 	EXPECT_EQ(a.confidence.fullMargin, b.confidence.fullMargin);
@@ -286,7 +282,6 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 {
 	const fs::path dir = test::freshTempDir("estimate_config_range");
 	for (const auto &[text, key] : std::vector<std::pair<std::string, std::string>>{
-		     {"[search]\nbank_keep = 20\n", "search.bank_keep"},
 		     {"[view_search]\nkeep = 0\n", "view_search.keep"},
 		     {"[view_search]\nedge_insets = 9\n", "view_search.edge_insets"},
 		     {"[view_search]\nedge_inset_share = 0.6\n", "view_search.edge_inset_share"},
@@ -324,13 +319,11 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[modal_boxes]\nbox_occluded_side = 2\n", "modal_boxes.box_occluded_side"},
 		     {"[boxes]\nkind = \"visible\"\n", "boxes.kind"},
 		     {"[budget]\nshort_occluded_weight = nan\n", "budget.short_occluded_weight"},
-		     {"[search]\nlevels = -1\n", "search.levels"},
 		     {"[half_turns]\ncandidates = 5\n", "half_turns.candidates"},
 		     {"[half_turns]\nkeep = 0\n", "half_turns.keep"},
 		     {"[half_turns]\nscreen = 33\n", "half_turns.screen"},
 		     {"[render_mesh]\nmax_error_mm = -1\n", "render_mesh.max_error_mm"},
 		     {"[score]\nresidual_weight = 1.5\n", "score.residual_weight"},
-		     {"[icp]\nfinal_iterations = -1\n", "icp.final_iterations"},
 		     {"[confidence]\ndistinct_share = 0\n", "confidence.distinct_share"},
 		     {"[confidence]\nfull_margin = -0.1\n", "confidence.full_margin"},
 		     {"[limits]\nmax_rivals = -1\n", "limits.max_rivals"},

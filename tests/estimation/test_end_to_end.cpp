@@ -290,7 +290,7 @@ TEST_F(EndToEnd, RefinementPolishesTheForestsOwnBests)
 		return (a.pose.t - b.pose.t).norm() < same && rotationAngle(a.pose.R, b.pose.R) < 10.0 * M_PI / 180.0;
 	};
 	// The best mode of each iteration, and of all (the ranking's first:
-	// no view search or rotation bank runs on this model).
+	// no view search runs on this model).
 	std::vector<const HypothesisEvent *> bestOf(static_cast<size_t>(cfg.iterations) + 1, nullptr);
 	const HypothesisEvent *top = nullptr;
 	std::vector<int> polishedIterations;
@@ -371,54 +371,6 @@ TEST_F(EndToEnd, TheMarginIsTheGapToTheBestDistinctHypothesis)
 	PoseEstimate off = estimator.estimate(depth.view(), kKinect, box, *model_, cfg);
 	EXPECT_FLOAT_EQ(off.confidence, off.score.score);
 	EXPECT_FLOAT_EQ(off.margin, e.margin); // measured either way
-}
-
-// The winner's last polish ([icp] final_iterations): more ICP at the
-// narrowest gate from the chosen pose, kept when the score does not drop.
-// With the candidates' ICP cut to one iteration the winner is not
-// converged (the view search off, a forest mode after one ICP step); the
-// last polish brings it nearer the truth.
-TEST_F(EndToEnd, TheWinnersLastPolishConverges)
-{
-	RecordedEvents events;
-	// Between training views: the forest's modes are some degrees off.
-	Pose gt = viewAt(12, Eigen::Vector3d(25, 15, 800));
-	gt.R = Eigen::AngleAxisd(7.0 * M_PI / 180.0, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix() * gt.R;
-	DepthImageMm depth(640, 480, 0.0f);
-	render(gt, depth);
-	const PixelBox box = boxAround(depth);
-
-	PoseEstimator estimator;
-	estimator.setObserver(&events);
-	EstimatorConfig cfg;
-	cfg.iterations = 0;
-	cfg.halfTurns.candidates = 0;
-	cfg.views.inplane = 0; // the forest's modes alone, a few degrees off
-	cfg.icpConfig.iterations = 1;
-	cfg.finalIcpIterations = 0;
-	const PoseEstimate plain = estimator.estimate(depth.view(), kKinect, box, *model_, cfg);
-	ASSERT_TRUE(plain.found) << plain.reason;
-	auto count = [&](const char *stage) {
-		return std::count_if(events.all.begin(), events.all.end(),
-				     [&](const HypothesisEvent &ev) { return std::string_view(ev.stage) == stage; });
-	};
-	EXPECT_EQ(count("icp_final"), 0);
-
-	events.all.clear();
-	cfg.finalIcpIterations = 10;
-	const PoseEstimate last = estimator.estimate(depth.view(), kKinect, box, *model_, cfg);
-	ASSERT_TRUE(last.found) << last.reason;
-	ASSERT_EQ(count("icp_final"), 1);
-	float before = 0;
-	for (const HypothesisEvent &ev : events.all)
-		if (std::string_view(ev.stage) != "icp_final")
-			before = std::max(before, ev.score.score);
-	EXPECT_GE(last.confidence, before);
-	EXPECT_FLOAT_EQ(before, plain.confidence); // the same search up to the last polish
-	const double addPlain = addError(plain.pose, gt, model_->mesh().vertices);
-	const double addLast = addError(last.pose, gt, model_->mesh().vertices);
-	EXPECT_LT(addLast, addPlain) << "plain " << addPlain << " mm, last polish " << addLast << " mm";
-	EXPECT_LT(addLast, 0.02 * trained_->params.diameter);
 }
 
 TEST_F(EndToEnd, BadBoxesGiveNoPoseWithAReason)

@@ -231,14 +231,11 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 	cfg.halfTurns.candidates = 0;
 	cfg.partStride = 8; // fewer parts and votes than the model's 4: a faster test, the same code
 	cfg.views.inplane = 0;
-	// Every third frame also runs the optional rotation bank, score search,
-	// view-template search and half-turns.
+	// Every third frame also runs the optional view-template search and
+	// half-turns.
 	EstimatorConfig searching = cfg;
-	searching.bank = RotationBankConfig{10, 4, 1, 2};
 	searching.views.inplane = 8;
 	searching.views.keep = 4;
-	searching.search.levels = 1;
-	searching.search.maxPasses = 1;
 	searching.halfTurns = HalfTurnConfig{2, 8, 1};
 	// Every other one of those renders each half-turn instead of screening
 	// them on the templates.
@@ -291,7 +288,6 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 	EstimatorStats s = estimator.stats();
 	EXPECT_EQ(s.frames, static_cast<uint64_t>(kWarmUp + kFrames));
 	EXPECT_GE(s.iterations, static_cast<uint64_t>(kFrames));
-	EXPECT_GT(s.stages[static_cast<int>(Stage::kBank)].calls, 0u);
 	EXPECT_GT(s.stages[static_cast<int>(Stage::kViews)].calls, 0u);
 	EXPECT_GT(s.stages[static_cast<int>(Stage::kHalfTurns)].calls, 0u);
 	// A budgeted frame's first box has a third of 60 ms: the tight profile.
