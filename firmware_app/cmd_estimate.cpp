@@ -482,11 +482,12 @@ int runEstimate(const EstimateOptions &o)
 	if (tracker) {
 		const TrackingStats &t = tracker->stats();
 		std::fprintf(stderr,
-			     "ihf estimate: tracking: %d tracked, %d detected (%llu re-detected), %d deferred, %d duplicate; "
+			     "ihf estimate: tracking: %d tracked, %d detected (%llu re-detected), %d deferred (%llu provisional), "
+			     "%d duplicate; "
 			     "tracks started %llu, lost %llu; tracked box median %.2f ms p99 %.2f ms; detected box median "
 			     "%.1f ms p99 %.1f ms; frame overruns %llu, worst frame %.1f ms\n",
 			     modes[BoxMode::kTrack], modes[BoxMode::kDetect], static_cast<unsigned long long>(t.redetected),
-			     modes[BoxMode::kDeferred], modes[BoxMode::kDuplicate], static_cast<unsigned long long>(t.started),
+			     modes[BoxMode::kDeferred], static_cast<unsigned long long>(t.provisional), modes[BoxMode::kDuplicate], static_cast<unsigned long long>(t.started),
 			     static_cast<unsigned long long>(t.lost), 1e3 * percentile(trackTimes, 0.5),
 			     1e3 * percentile(trackTimes, 0.99), 1e3 * percentile(detectTimes, 0.5),
 			     1e3 * percentile(detectTimes, 0.99), static_cast<unsigned long long>(t.frameOverruns),

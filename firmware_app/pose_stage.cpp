@@ -132,8 +132,9 @@ Status PoseStage::processTracked(const Frame &frame, const CameraIntrinsics &K, 
 			continue;
 		}
 		const StreamResult &r = streamResults_[i];
-		if (r.mode == BoxMode::kDeferred) {
+		if (r.mode == BoxMode::kDeferred)
 			++counters_.deferred;
+		if (r.mode == BoxMode::kDeferred && !r.provisional) {
 			if (Status st = output_.writeError(static_cast<int64_t>(frame.index), objId,
 							   "deferred: waits for a detection in a later frame",
 							   boxModeName(r.mode), r.trackId);
@@ -193,11 +194,11 @@ void PoseStage::describe(std::string &line) const
 	if (tracker_) {
 		const TrackingStats &t = tracker_->stats();
 		std::snprintf(buf, sizeof(buf),
-			      "; tracking: tracked %llu detected %llu (re-detected %llu) deferred %llu forced %llu "
-			      "duplicates %llu tracks started %llu lost %llu",
+			      "; tracking: tracked %llu detected %llu (re-detected %llu) deferred %llu (provisional %llu) "
+			      "forced %llu duplicates %llu tracks started %llu lost %llu",
 			      static_cast<unsigned long long>(t.tracked), static_cast<unsigned long long>(t.detected),
 			      static_cast<unsigned long long>(t.redetected), static_cast<unsigned long long>(t.deferred),
-			      static_cast<unsigned long long>(t.forced), static_cast<unsigned long long>(t.duplicates),
+			      static_cast<unsigned long long>(t.provisional), static_cast<unsigned long long>(t.forced), static_cast<unsigned long long>(t.duplicates),
 			      static_cast<unsigned long long>(t.started), static_cast<unsigned long long>(t.lost));
 		line += buf;
 	}

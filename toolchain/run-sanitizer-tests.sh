@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The sanitizer lane: builds the debug preset (AddressSanitizer + UBSan,
-# build-debug/, no benchmarks) and runs every test under it (ctest --preset
-# debug: LeakSanitizer on, any UBSan report fails its test). Prints the
-# build and test wall times (BENCHMARKS.md, Edge targets and CI).
+# The sanitizer lane: builds the debug preset (clang, AddressSanitizer +
+# UBSan at -O1, build-debug/, no benchmarks; the same build holds the fuzz
+# harnesses of tests/fuzz/run.sh) and runs every test under it (ctest
+# --preset debug: LeakSanitizer on, any UBSan report fails its test).
+# Prints the build and test wall times (BENCHMARKS.md, CI stage times).
 #
 #   toolchain/run-sanitizer-tests.sh [ctest args]
 set -euo pipefail

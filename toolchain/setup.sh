@@ -1,15 +1,20 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # Installs the Debian 12 packages ihf needs (only those missing), then
-# configures and builds a preset (default release; debug: ASan + UBSan in
-# build-debug/). Idempotent; safe to re-run.
+# configures and builds a preset (default release; debug: clang with ASan,
+# UBSan and the fuzz harnesses in build-debug/, which also needs
+# debian12-fuzz-packages.txt). Idempotent; safe to re-run.
 #
-#   toolchain/setup.sh [PRESET]
+#   toolchain/setup.sh [PRESET [TARGET...]]     (default: every target)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(dirname "$here")"
 
-mapfile -t pkgs < <(grep -v '^\s*#' "$here/debian12-packages.txt" | sed '/^\s*$/d')
+preset="${1:-release}"
+shift || true
+lists=("$here/debian12-packages.txt")
+[ "$preset" != debug ] || lists+=("$here/debian12-fuzz-packages.txt")
+mapfile -t pkgs < <(cat "${lists[@]}" | grep -v '^\s*#' | sed '/^\s*$/d')
 missing=()
 for p in "${pkgs[@]}"; do
 	dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -22,7 +27,8 @@ if ((${#missing[@]})); then
 	DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-preset="${1:-release}"
 cd "$root"
 cmake --preset "$preset" >/dev/null
-cmake --build --preset "$preset"
+targets=()
+(($# == 0)) || targets=(--target "$@")
+cmake --build --preset "$preset" "${targets[@]}"

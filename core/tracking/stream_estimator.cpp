@@ -293,6 +293,11 @@ void StreamEstimator::trackBox(size_t i, uint64_t frame, ImageView<const float> 
 		return;
 	}
 	++stats_.rejected[static_cast<size_t>(refined.verdict)];
+	// Kept aside: the box's answer should its detection have to wait.
+	if (refined.scored) {
+		r.estimate = refined.estimate;
+		r.provisional = true;
+	}
 	needsDetection_[i] = true;
 }
 
@@ -336,6 +341,7 @@ void StreamEstimator::detectBoxes(uint64_t frame, ImageView<const float> depth, 
 			StreamResult &r = results[i];
 			const int64_t t0 = clock_.nowNs();
 			r.estimate = detector_.estimate(depth, K, boxes[i].box, *t.model, config);
+			r.provisional = false;
 			r.startNs = t0;
 			r.ns = clock_.nowNs() - t0;
 			count(stats_.detectTime, r.ns);
@@ -363,8 +369,17 @@ void StreamEstimator::detectBoxes(uint64_t frame, ImageView<const float> depth, 
 		StreamResult &r = results[i];
 		r.mode = BoxMode::kDeferred;
 		r.trackId = t.id;
-		r.estimate = PoseEstimate{};
-		r.estimate.reason = "waits for a detection in a later frame";
+		// A tracked pose scored this frame, though not kept, is a better
+		// answer than none while the detection waits; its confidence says
+		// how far to trust it.
+		if (r.provisional) {
+			r.estimate.found = true;
+			r.estimate.reason = "tracked pose not kept, waits for a detection in a later frame";
+			++stats_.provisional;
+		} else {
+			r.estimate = PoseEstimate{};
+			r.estimate.reason = "waits for a detection in a later frame";
+		}
 		r.waited = t.waiting;
 		t.state = TrackState::kPending;
 		++t.waiting;

@@ -12,8 +12,9 @@
 // The frame's budget is shared: tracked boxes first, then detections,
 // oldest wait first, each only while at least detectMinMs is left for it;
 // a detection that does not fit waits for the next frame (counted, and its
-// box answered as deferred), and one that has waited maxDeferFrames runs
-// whatever the time left. A track with no box for maxMissedFrames ends.
+// box answered as deferred: with the tracked pose that was not kept, when
+// one was scored, as an unconfirmed answer with its own confidence), and
+// one that has waited maxDeferFrames runs whatever the time left. A track with no box for maxMissedFrames ends.
 // Nothing here allocates after construction: tracks, per-frame lists and
 // the refiner's buffers are fixed at start-up.
 
@@ -39,7 +40,7 @@ struct StreamBox {
 enum class BoxMode : uint8_t {
 	kTrack,     // the tracked pose
 	kDetect,    // a cold detection
-	kDeferred,  // waits for a detection in a later frame
+	kDeferred,  // waits for a detection in a later frame (found: its tracked pose not kept, unconfirmed)
 	kDuplicate, // repeats another box of the frame (same object, same place)
 	kSkipped,   // no model, or more boxes than the frame holds
 };
@@ -52,6 +53,7 @@ struct StreamResult {
 	PoseEstimate estimate;             // found: a pose; else reason
 	TrackVerdict verdict = TrackVerdict::kKept; // of the tracked attempt, when there was one
 	bool tracked = false;              // a tracked pose was tried
+	bool provisional = false;          // deferred, answered with the tracked pose that was not kept
 	int waited = 0;                    // frames the box waited for this detection
 	int64_t startNs = 0;               // when its estimation began (the clock's time)
 	int64_t ns = 0;                    // time spent on the box
@@ -64,6 +66,7 @@ struct TrackingStats {
 	uint64_t detected = 0;    // boxes answered by a detection
 	uint64_t redetected = 0;  // of those, after a tracked pose was not kept
 	uint64_t deferred = 0;    // detections moved to a later frame
+	uint64_t provisional = 0; // of those, answered with their tracked pose not kept
 	uint64_t forced = 0;      // detections run though the frame had no room (due)
 	uint64_t refreshed = 0;   // tracked boxes detected again with the frame's spare time
 	uint64_t refreshWins = 0; // of those, the detection scored higher and replaced the track

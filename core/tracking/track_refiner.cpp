@@ -106,7 +106,15 @@ TrackRefinement TrackRefiner::refine(ImageView<const float> depth, const CameraI
 	const bool takePolish = polished.valid && !jumped && polished.score.score >= predictedScore.score;
 	const Pose chosen = takePolish ? polished.pose : start;
 	const HypothesisScore &s = takePolish ? polished.score : predictedScore;
-	out.estimate.score = s;
+	PoseEstimate &e = out.estimate;
+	e.score = s;
+	e.pose.R = Rv * chosen.R;
+	e.pose.t = Rv * chosen.t;
+	e.margin = config.confidence.fullMargin;
+	e.confidence = poseConfidence(s.score, e.margin, config.confidence);
+	e.icpApplied = takePolish;
+	e.bestIteration = 0;
+	out.scored = true;
 	if (s.score < tracking.minScore || s.score < tracking.keepShare * detectionScore) {
 		out.verdict = jumped ? TrackVerdict::kJumped : polished.valid ? TrackVerdict::kLowScore : TrackVerdict::kNoFit;
 		return out;
@@ -118,7 +126,7 @@ TrackRefinement TrackRefiner::refine(ImageView<const float> depth, const CameraI
 	// The rivals: the pose turned half round about the model's box axes
 	// (the turns a detection most often confuses), as the confidence's
 	// margin measures them for a detection.
-	float margin = config.confidence.fullMargin;
+	float margin = e.margin;
 	if (tracking.rivals && !params.symmetric) {
 		const Eigen::Vector3d centre = boundingBox(model.mesh()).centre().cast<double>();
 		float rival = 0;
@@ -129,21 +137,16 @@ TrackRefinement TrackRefiner::refine(ImageView<const float> depth, const CameraI
 			rival = std::max(rival, scoreInWindow(scoreWindow, renderer_, render, model, turned).score);
 		}
 		margin = std::max(0.0f, s.score - rival);
+		e.margin = margin;
+		e.confidence = poseConfidence(s.score, margin, config.confidence);
 		if (margin < tracking.rivalMargin && detectionMargin >= tracking.rivalMargin) {
 			out.verdict = TrackVerdict::kRival;
 			return out;
 		}
 	}
 	out.verdict = TrackVerdict::kKept;
-	PoseEstimate &e = out.estimate;
 	e.found = true;
 	e.reason = "";
-	e.pose.R = Rv * chosen.R;
-	e.pose.t = Rv * chosen.t;
-	e.margin = margin;
-	e.confidence = poseConfidence(s.score, margin, config.confidence);
-	e.icpApplied = takePolish;
-	e.bestIteration = 0;
 	return out;
 }
 

@@ -36,7 +36,12 @@ const char *trackVerdictName(TrackVerdict verdict);
 
 struct TrackRefinement {
 	TrackVerdict verdict = TrackVerdict::kNoDepth;
-	PoseEstimate estimate; // found when kept
+	// found when kept. A pose that was scored but not kept (kNoFit,
+	// kLowScore, kLeftBox, kJumped, kRival) is here too, with its score,
+	// margin and confidence, and found false: the box's best guess while it
+	// waits for a detection.
+	PoseEstimate estimate;
+	bool scored = false;
 };
 
 class TrackRefiner

@@ -385,6 +385,53 @@ TEST_F(StreamEstimatorTest, AnObjectTurnedInPlaceIsDetectedAgainWithinThreeFrame
 	EXPECT_GE(stream.stats().redetected, 1u);
 }
 
+TEST_F(StreamEstimatorTest, ATrackedPoseNotKeptAnswersItsWaitingBoxUnconfirmed)
+{
+	test::StepClock clock(kMs);
+	PoseEstimator detector({}, &clock);
+	TrackerConfig tc;
+	tc.detectMinMs = 20;
+	StreamEstimator stream(detector, tc, &clock);
+	const Pose before = test::viewAt(*model_, 37, {30, -20, 800});
+	Scene s = render({before});
+	std::vector<StreamResult> r = run(stream, 0, s, boxesOf(s), 500);
+	ASSERT_EQ(r[0].mode, BoxMode::kDetect);
+	ASSERT_TRUE(r[0].estimate.found);
+	const float detectedConfidence = r[0].estimate.confidence;
+	// Turned in place, and no room for a detection: the tracked pose is
+	// not kept, and the box is answered with it, unconfirmed, while its
+	// detection waits.
+	const Pose after = test::viewAt(*model_, 12, before.t);
+	s = render({after});
+	r = run(stream, 1, s, boxesOf(s), 1);
+	ASSERT_EQ(r[0].mode, BoxMode::kDeferred);
+	EXPECT_TRUE(r[0].tracked);
+	EXPECT_NE(r[0].verdict, TrackVerdict::kKept);
+	EXPECT_TRUE(r[0].provisional);
+	ASSERT_TRUE(r[0].estimate.found);
+	EXPECT_STREQ(r[0].estimate.reason, "tracked pose not kept, waits for a detection in a later frame");
+	EXPECT_LT(r[0].estimate.confidence, detectedConfidence);
+	EXPECT_LT(mm(r[0].estimate.pose, before), 0.3 * model().params().diameter);
+	EXPECT_EQ(stream.stats().deferred, 1u);
+	EXPECT_EQ(stream.stats().provisional, 1u);
+	// With room (an unbudgeted frame), the waiting box is detected and
+	// placed right.
+	r = run(stream, 2, s, boxesOf(s));
+	ASSERT_EQ(r[0].mode, BoxMode::kDetect);
+	EXPECT_FALSE(r[0].provisional);
+	EXPECT_EQ(r[0].waited, 1);
+	ASSERT_TRUE(r[0].estimate.found);
+	EXPECT_LT(mm(r[0].estimate.pose, after), 10.0);
+	EXPECT_LT(degrees(r[0].estimate.pose, after), 10.0);
+	// A new box with no track to guess from waits without a pose.
+	const Pose other = test::viewAt(*model_, 25, {-150, -40, 800});
+	s = render({after, other});
+	r = run(stream, 3, s, boxesOf(s), 1);
+	ASSERT_EQ(r[1].mode, BoxMode::kDeferred);
+	EXPECT_FALSE(r[1].provisional);
+	EXPECT_FALSE(r[1].estimate.found);
+}
+
 TEST_F(StreamEstimatorTest, BadBoxesGetAStatusAndTheStreamGoesOn)
 {
 	PoseEstimator detector;
