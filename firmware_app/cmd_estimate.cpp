@@ -387,11 +387,12 @@ int runEstimate(const EstimateOptions &o)
 					imageTime += r.ns * 1e-9;
 					++done;
 				}
+				// A box without a pose, or answered unconfirmed (provisional).
+				if ((!r.estimate.found || r.provisional) && !o.quiet)
+					std::fprintf(stderr, "ihf estimate: scene %d image %d object %d: %s: %s\n", sceneId,
+						     imId, d->categoryId, boxModeName(r.mode), r.estimate.reason);
 				if (!r.estimate.found) {
 					++noPose;
-					if (!o.quiet)
-						std::fprintf(stderr, "ihf estimate: scene %d image %d object %d: %s: %s\n",
-							     sceneId, imId, d->categoryId, boxModeName(r.mode), r.estimate.reason);
 					continue;
 				}
 				imageRows.push_back(resultRow(sceneId, imId, d->categoryId, r.estimate));

@@ -26,13 +26,15 @@ parts = [a.name, f"F1 {rep['mean']['mean_f1']:.4f}", f"recall {rep['mean']['reca
 boxes = find(r'(\d+) boxes, (\d+) poses')
 if boxes:
     parts.append(f'boxes {boxes[0]}')
-t = find(r'tracking: (\d+) tracked, (\d+) detected \((\d+) re-detected\), (\d+) deferred, (\d+) duplicate.*?'
+t = find(r'tracking: (\d+) tracked, (\d+) detected \((\d+) re-detected\), (\d+) deferred \((\d+) provisional\), '
+         r'(\d+) duplicate.*?'
          r'tracked box median ([\d.]+) ms p99 ([\d.]+) ms; detected box median ([\d.]+) ms p99 ([\d.]+) ms; '
          r'frame overruns (\d+)')
 if t:
     tracked, detected = int(t[0]), int(t[1])
-    parts += [f'tracked {tracked / max(1, tracked + detected):.3f}', f're-detected {t[2]}', f'deferred {t[3]}',
-              f'track p50/p99 {t[5]}/{t[6]} ms', f'detect p50/p99 {t[7]}/{t[8]} ms', f'frame overruns {t[9]}']
+    parts += [f'tracked {tracked / max(1, tracked + detected):.3f}', f're-detected {t[2]}',
+              f'deferred {t[3]} ({t[4]} provisional)', f'track p50/p99 {t[6]}/{t[7]} ms',
+              f'detect p50/p99 {t[8]}/{t[9]} ms', f'frame overruns {t[10]}']
 f = find(r'frames with boxes (\d+), frame median ([\d.]+) ms p99 ([\d.]+) ms; refreshed (\d+) \((\d+) won\), '
          r'forced (\d+), longest wait (\d+)')
 if f:

@@ -69,6 +69,12 @@ for n in 3 8; do
 			"$out/results/seq${n}_every5_$r.csv"
 		score "seq${n}_every5_$r" "${d}_every5" "seq${n}_$r"
 	done
+	# The same past each sequence's first frames (subset.py's targets).
+	for r in every5_cold_unbudgeted every5_track_33ms; do
+		echo "seq${n}_${r}_after_start: $("$ihf" eval --dataset "${d}_every5" \
+			--results "$out/results/seq${n}_$r.csv" --targets "${d}_every5/targets_after_start.json" |
+			awk '/^mean/ {print "F1", $(NF-2), "recall", $(NF-1)}')"
+	done
 done
 
 # The real LM-O frame as a still stream of 30 frames, eight boxes each.

@@ -59,7 +59,7 @@ DepthImage16 sensorDepth(const SynthParams &params, const SceneLayout &layout,
 
 SceneSynthesizer::SceneSynthesizer(const ModelLibrary &library, const CameraIntrinsics &K,
 				   SynthParams params)
-	: library_(library), K_(K), params_(params),
+	: K_(K), params_(params),
 	  renderer_(K, std::max<size_t>(library.maxVertices(), 4096)),
 	  sampler_(library, K, params.layout)
 {

@@ -90,7 +90,6 @@ private:
 	Expected<SynthImage> attempt(int objId, int imageId, int index, double goal,
 				     SynthRandom &rng);
 
-	const ModelLibrary &library_;
 	CameraIntrinsics K_;
 	SynthParams params_;
 	SceneRenderer renderer_;

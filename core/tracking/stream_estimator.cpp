@@ -261,6 +261,7 @@ void StreamEstimator::place(Track &t, const PoseEstimate &e, uint64_t frame, boo
 		t.velocity = Pose{};
 		t.detectionScore = e.score.score;
 		t.detectionMargin = e.margin;
+		t.confidence = e.confidence;
 		t.detectedOnce = true;
 		t.detectedFrame = frame;
 	}
@@ -405,8 +406,14 @@ void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth
 	const size_t run = std::min(tracked, static_cast<size_t>(std::max(0.0, leftMs / config_.detectMinMs)));
 	if (run == 0)
 		return;
-	// The track detected longest ago first.
-	sortLargestFirst(order_, tracked, [&](int i) { return frame - trackOf_[static_cast<size_t>(i)]->detectedFrame; });
+	// The track most in doubt first: the least confident detection, and
+	// of equally confident ones the oldest. A detection made in a short
+	// share of a frame is wrong more often, and a wrong start is followed
+	// until a refresh replaces it.
+	sortLargestFirst(order_, tracked, [&](int i) {
+		const Track &t = *trackOf_[static_cast<size_t>(i)];
+		return static_cast<double>(frame - t.detectedFrame + 1) * (1.0 - static_cast<double>(t.confidence));
+	});
 	const int64_t groupStart = clock_.nowNs();
 	detector_.beginFrame(static_cast<int>(run), static_cast<float>(leftMs));
 	for (size_t k = 0; k < run; ++k) {
@@ -435,6 +442,7 @@ void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth
 		} else {
 			// The tracked pose stands, confirmed: it counts as detected now.
 			t.detectedFrame = frame;
+			t.confidence = std::max(t.confidence, r.estimate.confidence);
 		}
 	}
 	detector_.endFrame();

@@ -32,6 +32,7 @@ struct Track {
 	int waiting = 0;           // frames its box has waited for a detection
 	float detectionScore = 0;  // the score and margin its pose was detected with
 	float detectionMargin = 0;
+	float confidence = 0;      // of its last detection, or of the tracked pose a refresh confirmed
 	bool detectedOnce = false; // a detection has placed it (a re-detection is counted as such)
 	uint64_t detectedFrame = 0; // the frame of its last detection
 	bool matched = false;      // in the current frame

@@ -30,7 +30,8 @@ struct TrackerConfig {
 	float detectMinMs = 10.0f;
 	// Time a budgeted frame has left after its tracked boxes and the
 	// detections it needs goes to detecting tracked boxes again, the track
-	// detected longest ago first (detectMinMs each); the detection's pose
+	// most in doubt first (the least confident detection, then the oldest;
+	// detectMinMs each); the detection's pose
 	// replaces the tracked one when it scores higher. A track started from
 	// a poor detection (a short share, the object half hidden) is then not
 	// followed for long. Unbudgeted frames never refresh.
