@@ -543,7 +543,8 @@ void addEstimateCommand(CLI::App &root, Action &action)
 	cmd->add_flag("--paper", opts->paper,
 		      "The paper's method alone: --no-icp --no-views --no-half-turns, refinement iterations voting as the registration");
 	cmd->add_option("--budget-ms", opts->budgetMs,
-			"Time budget per frame in ms, shared by its boxes (0: unlimited; default from the config, 33)")
+			"Estimation time per frame in ms, shared by its boxes (overrides [budget] estimation_budget_ms; "
+			"0: unlimited)")
 		->check(CLI::Range(0.0, 1e6));
 	cmd->add_option("--threads", opts->threads,
 			"Threads of a box's view search, the caller included (0: one per core; default from the config)")

@@ -42,7 +42,7 @@ struct RunOptions {
 	bool realTime = false;
 	bool step = false;
 	double statsInterval = -1;
-	double budgetMs = -1;         // --frame-budget-ms: drop late frames
+	double dropFramesOlderThanMs = -1; // --drop-frames-older-than-ms
 	double estimateBudgetMs = -1; // --budget-ms: the frame's estimation budget
 	std::string boxKind;          // --box-kind
 	bool noTracking = false;      // --no-tracking
@@ -79,10 +79,10 @@ int runRun(const RunOptions &o)
 		rs.realTime = false;
 	if (o.statsInterval >= 0)
 		rs.statsIntervalS = o.statsInterval;
-	if (o.budgetMs >= 0)
-		rs.frameBudgetMs = o.budgetMs;
+	if (o.dropFramesOlderThanMs >= 0)
+		rs.dropFramesOlderThanMs = o.dropFramesOlderThanMs;
 	if (o.estimateBudgetMs >= 0)
-		rs.budgetMs = o.estimateBudgetMs;
+		rs.estimationBudgetMs = o.estimateBudgetMs;
 	if (!o.boxKind.empty()) {
 		Expected<BoxKind> kind = parseBoxKind(o.boxKind, "--box-kind");
 		if (!kind)
@@ -103,10 +103,10 @@ int runRun(const RunOptions &o)
 	Expected<EstimateSettings> es = loadEstimateConfig(rs.estimateConfig);
 	if (!es)
 		return failWith(es.error().message);
-	if (rs.iterations >= 0)
-		es->estimator.iterations = rs.iterations;
-	if (rs.budgetMs >= 0)
-		es->estimator.frameBudgetMs = static_cast<float>(rs.budgetMs);
+	if (rs.iterations)
+		es->estimator.iterations = *rs.iterations;
+	if (rs.estimationBudgetMs)
+		es->estimator.frameBudgetMs = static_cast<float>(*rs.estimationBudgetMs);
 	else if (rs.estimateConfig.empty())
 		es->estimator.frameBudgetMs = kDeviceFrameBudgetMs;
 	if (rs.boxKind)
@@ -168,7 +168,7 @@ int runRun(const RunOptions &o)
 	lc.maxRetries = rs.maxRetries;
 	lc.backoff = std::chrono::milliseconds(rs.retryBackoffMs);
 	lc.backoffMax = std::chrono::milliseconds(rs.retryBackoffMaxMs);
-	lc.frameBudget = std::chrono::nanoseconds(static_cast<int64_t>(rs.frameBudgetMs * 1e6));
+	lc.frameBudget = std::chrono::nanoseconds(static_cast<int64_t>(rs.dropFramesOlderThanMs * 1e6));
 	lc.statsInterval = std::chrono::nanoseconds(static_cast<int64_t>(rs.statsIntervalS * 1e9));
 	lc.maxFrames = static_cast<uint64_t>(rs.maxFrames);
 
@@ -229,10 +229,12 @@ void addRunCommand(CLI::App &root, Action &action)
 		->check(CLI::NonNegativeNumber);
 	cmd->add_flag("--real-time", o->realTime, "recordings: replay at recorded speed (late frames dropped)");
 	cmd->add_flag("--step", o->step, "recordings: every frame in turn, none dropped");
-	cmd->add_option("--frame-budget-ms", o->budgetMs, "drop frames older than this at their turn (0: never)")
+	cmd->add_option("--drop-frames-older-than-ms", o->dropFramesOlderThanMs,
+			"real time: drop frames older than this at their turn (overrides [run] drop_frames_older_than_ms; "
+			"0: never)")
 		->check(CLI::NonNegativeNumber);
 	cmd->add_option("--budget-ms", o->estimateBudgetMs,
-			"estimation time per frame, shared by its boxes (overrides [estimate] budget_ms; 0: unlimited)")
+			"estimation time per frame, shared by its boxes (overrides [estimate] estimation_budget_ms; 0: unlimited)")
 		->check(CLI::NonNegativeNumber);
 	cmd->add_option("--box-kind", o->boxKind,
 			"what the boxes bound: amodal (the whole object) or modal (its visible part, as most "

@@ -28,5 +28,6 @@ void addEstimateCommand(CLI::App &root, Action &action);
 void addRecordCommand(CLI::App &root, Action &action);
 void addRunCommand(CLI::App &root, Action &action);
 void addDevicesCommand(CLI::App &root, Action &action);
+void addConfigCommand(CLI::App &root, Action &action);
 
 } // namespace ihf::app

@@ -24,6 +24,7 @@ int main(int argc, char **argv)
 	addRecordCommand(root, action);
 	addRunCommand(root, action);
 	addDevicesCommand(root, action);
+	addConfigCommand(root, action);
 
 	try {
 		root.parse(argc, argv);

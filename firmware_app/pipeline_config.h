@@ -23,7 +23,12 @@
 
 namespace ihf::app {
 
+// `ihf train`'s settings. Where they differ from the library's defaults
+// (the paper's choices, which the core's tests train with), these are the
+// measured better ones that config/train.toml ships (BENCHMARKS.md): fixed
+// parts, three scales, occluded views.
 struct TrainSettings {
+	TrainSettings();
 	ModelParams params;
 	TrainingSetConfig set;
 	ForestTrainerConfig forest;
@@ -44,7 +49,7 @@ Expected<BoxKind> parseBoxKind(const std::string &name, const std::string &what)
 const char *boxKindName(BoxKind kind);
 
 // The score weights that differ with the kind of box ([score] holds the
-// amodal ones, [modal_boxes] the modal ones).
+// amodal ones, [modal_boxes.score] the modal ones).
 struct BoxKindWeights {
 	float occludedWeight;
 	float boxWeight;
@@ -60,9 +65,9 @@ struct EstimateSettings {
 	// weights estimator.score holds (useBoxKind).
 	BoxKind boxKind = BoxKind::kAmodal;
 	BoxKindWeights amodal{ScoreConfig{}.occludedWeight, ScoreConfig{}.boxWeight, ScoreConfig{}.boxOccludedSide};
-	// Occluded 0.2, box power 1, and the sides the scene hides open to overhang:
-	// synkaz, fixed forests, k = 5, boxes round the visible part, mean F1
-	// 0.812 against 0.732 with the amodal weights (BENCHMARKS.md).
+	// Boxes round the visible part: a lighter occlusion weight, the box
+	// factor to the power 1 and the sides the scene hides open to overhang
+	// (the amodal weights lose with such boxes; BENCHMARKS.md).
 	BoxKindWeights modal{0.2f, 1.0f, 0.5f};
 	// The library runs one thread unless asked; the tool uses every core.
 	EstimatorLimits limits = [] {
@@ -122,13 +127,15 @@ struct RunSettings {
 	std::map<int, std::filesystem::path> forests;
 	// [estimate]
 	std::filesystem::path estimateConfig; // empty: defaults
-	int iterations = -1; // overrides the estimation config when >= 0
-	double budgetMs = -1; // per-frame estimation budget; overrides the estimation config when >= 0
+	std::optional<int> iterations; // instead of the estimation config's
+	// The frame's estimation budget, instead of the estimation config's
+	// (without one: kDeviceFrameBudgetMs).
+	std::optional<double> estimationBudgetMs;
 	// [tracking] frame-to-frame tracking (core/tracking); enabled = false:
 	// every box a cold detection
 	TrackerConfig tracking;
 	// [run]
-	double frameBudgetMs = 0; // real time: frames older than this at their turn are dropped; 0: never
+	double dropFramesOlderThanMs = 0; // real time: frames older than this at their turn are dropped; 0: never
 	double statsIntervalS = 5; // periodic stats on stderr; 0: only at the end
 	int64_t maxFrames = 0; // stop after this many frames delivered; 0: no limit
 };

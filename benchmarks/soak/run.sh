@@ -34,7 +34,7 @@ cd "$out"
 [ -d seq ] || "$ihf" synth --sequence --models "$models" --objects 20 --sequences 1 --frames 150 --seed 3 \
 	--quiet --out seq
 if [ ! -f bunny.ihf ]; then
-	printf '[views]\nviewpoints = 20\ninplane_steps = 2\n[scales]\nfactors = [1.0]\nparts_per_image = 8\n' \
+	printf '[views]\nviewpoints = 20\ninplane_steps = 2\n[scales]\nfactors = [1.0]\nparts_per_image = 8\noccluded_views = 0.0\n[parts]\nkind = "variable"\nmax_control_points = 256\n' \
 		>train.toml
 	"$ihf" train --model "$models/obj_000020.ply" --config train.toml --out bunny.ihf >/dev/null
 fi

@@ -85,7 +85,8 @@ TEST_F(MeshCliTest, StlTrainsTheSameTreesAsItsPly)
 	const fs::path stl = dir_ / "obj_000020.stl";
 	test::writeBytes(stl, test::stlBinary(*mesh));
 	std::ofstream(dir_ / "train.toml") << "[views]\nviewpoints = 20\ninplane_steps = 2\n"
-					      "[scales]\nfactors = [1.0]\nparts_per_image = 8\n";
+					      "[scales]\nfactors = [1.0]\nparts_per_image = 8\noccluded_views = 0.0\n"
+					      "[parts]\nkind = \"variable\"\nmax_control_points = 256\n";
 
 	const std::string common = " --config " + q(dir_ / "train.toml") + " --threads 2 --seed 3";
 	auto a = test::runIhf("train --model " + q(ply) + common + " --out " + q(dir_ / "ply.ihf"));
@@ -138,7 +139,8 @@ TEST_F(MeshCliTest, UnreadableFormatFailsNamingTheFile)
 	// A 2 mm STL: read (with a warning about units) when the build has
 	// assimp; otherwise exit 1 with the missing package named.
 	test::writeBytes(dir_ / "obj_000001.stl", test::stlAscii(Mesh{{{0, 0, 0}, {2, 0, 0}, {0, 2, 0}}, {}, {{0, 1, 2}}}));
-	std::ofstream(dir_ / "train.toml") << "[views]\nviewpoints = 4\ninplane_steps = 1\n";
+	std::ofstream(dir_ / "train.toml") << "[views]\nviewpoints = 4\ninplane_steps = 1\n[scales]\noccluded_views = 0.0\n"
+					      "[parts]\nkind = \"variable\"\nmax_control_points = 256\n";
 	r = test::runIhf("train --model " + q(dir_ / "obj_000001.stl") + " --config " + q(dir_ / "train.toml") +
 			 " --out " + q(dir_ / "x.ihf"));
 	if (meshImportHasAssimp()) {

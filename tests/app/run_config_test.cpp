@@ -58,7 +58,7 @@ refresh = false
 min_score = 0.35
 keep_share = 0.6
 [run]
-frame_budget_ms = 66.5
+drop_frames_older_than_ms = 66.5
 stats_interval_s = 2
 max_frames = 100
 )");
@@ -80,7 +80,7 @@ max_frames = 100
 	EXPECT_EQ(s->forests.at(20), dir / "forests/bunny.ihf");
 	EXPECT_EQ(s->forests.at(5), fs::path("/abs/can.ihf"));
 	EXPECT_EQ(s->estimateConfig, dir / "estimate.toml");
-	EXPECT_EQ(s->iterations, 3);
+	EXPECT_EQ(s->iterations.value_or(-1), 3);
 	EXPECT_FALSE(s->tracking.enabled);
 	EXPECT_FLOAT_EQ(s->tracking.matchIou, 0.4f);
 	EXPECT_EQ(s->tracking.maxMissedFrames, 9);
@@ -89,7 +89,7 @@ max_frames = 100
 	EXPECT_FALSE(s->tracking.refresh);
 	EXPECT_FLOAT_EQ(s->tracking.minScore, 0.35f);
 	EXPECT_FLOAT_EQ(s->tracking.keepShare, 0.6f);
-	EXPECT_EQ(s->frameBudgetMs, 66.5);
+	EXPECT_EQ(s->dropFramesOlderThanMs, 66.5);
 	EXPECT_EQ(s->statsIntervalS, 2.0);
 	EXPECT_EQ(s->maxFrames, 100);
 }
@@ -150,10 +150,10 @@ TEST(RunConfig, ValuesBeyondTheSettingsTypeAreRangeErrors)
 		  std::string::npos)
 		<< wrapped.error().message;
 
-	auto narrow = loadEstimateConfig(writeConfig("narrow", "[budget]\nframe_ms = 1e300\n"));
+	auto narrow = loadEstimateConfig(writeConfig("narrow", "[budget]\nestimation_budget_ms = 1e300\n"));
 	ASSERT_FALSE(narrow.ok());
 	EXPECT_EQ(narrow.error().code, Errc::kOutOfRange);
-	EXPECT_NE(narrow.error().message.find("budget.frame_ms: "), std::string::npos) << narrow.error().message;
+	EXPECT_NE(narrow.error().message.find("budget.estimation_budget_ms: "), std::string::npos) << narrow.error().message;
 	EXPECT_NE(narrow.error().message.find("is outside the range of a 32-bit float"), std::string::npos)
 		<< narrow.error().message;
 
@@ -186,96 +186,11 @@ TEST(EstimateConfig, OfflineDefaultsHaveNoBudgetAndMatchTheBundledConfig)
 	auto none = loadEstimateConfig({});
 	ASSERT_TRUE(none.ok());
 	EXPECT_EQ(none->estimator.frameBudgetMs, 0.0f);
+	// The bundled config agrees with the defaults: ConfigSchema's
+	// TheShippedFilesHoldTheUserSettingsAtTheirDefaults, key by key.
 	auto bundled = loadEstimateConfig(test::sourceDir() / "config" / "estimate.toml");
 	ASSERT_TRUE(bundled.ok()) << bundled.error().message;
-	const EstimatorConfig &a = none->estimator, &b = bundled->estimator;
-	EXPECT_EQ(a.iterations, b.iterations);
-	EXPECT_EQ(a.depthWindows, b.depthWindows);
-	EXPECT_EQ(a.maxHypotheses, b.maxHypotheses);
-	EXPECT_EQ(a.rotationModes, b.rotationModes);
-	EXPECT_EQ(a.maxShiftVotes, b.maxShiftVotes);
-	EXPECT_EQ(a.icp, b.icp);
-	EXPECT_EQ(a.icpCandidates, b.icpCandidates);
-	EXPECT_EQ(a.polishForestBests, b.polishForestBests);
-	EXPECT_EQ(a.polishRegistration, b.polishRegistration);
-	EXPECT_EQ(a.cullBackFaces, b.cullBackFaces);
-	EXPECT_EQ(a.targetParts, b.targetParts);
-	EXPECT_EQ(a.iterationTargetParts, b.iterationTargetParts);
-	EXPECT_EQ(a.iterationIbsMaxPoints, b.iterationIbsMaxPoints);
-	EXPECT_EQ(a.iterationIbsCgIterations, b.iterationIbsCgIterations);
-	EXPECT_EQ(a.iterationMaxShiftVotes, b.iterationMaxShiftVotes);
-	EXPECT_EQ(a.researchRounds, b.researchRounds);
-	EXPECT_EQ(a.researchPolish, b.researchPolish);
-	EXPECT_EQ(a.frameBudgetMs, b.frameBudgetMs);
-	EXPECT_EQ(a.budgetIterations, b.budgetIterations);
-	EXPECT_EQ(a.budgetResearchRounds, b.budgetResearchRounds);
-	EXPECT_EQ(a.budgetDepthWindows, b.budgetDepthWindows);
-	EXPECT_EQ(a.budgetTargetParts, b.budgetTargetParts);
-	EXPECT_EQ(a.budgetIbsMaxPoints, b.budgetIbsMaxPoints);
-	EXPECT_EQ(a.budgetIbsCgIterations, b.budgetIbsCgIterations);
-	EXPECT_EQ(a.budgetWindowPixels, b.budgetWindowPixels);
-	EXPECT_EQ(a.budgetScaleByBox, b.budgetScaleByBox);
-	EXPECT_EQ(a.budgetTightMs, b.budgetTightMs);
-	EXPECT_EQ(a.tightTargetParts, b.tightTargetParts);
-	EXPECT_EQ(a.tightMaxShiftVotes, b.tightMaxShiftVotes);
-	EXPECT_EQ(a.tightIbsMaxPoints, b.tightIbsMaxPoints);
-	EXPECT_EQ(a.tightIbsCgIterations, b.tightIbsCgIterations);
-	EXPECT_EQ(a.tightMaxHypotheses, b.tightMaxHypotheses);
-	EXPECT_EQ(a.tightRotationModes, b.tightRotationModes);
-	EXPECT_EQ(a.tightCentreShiftShare, b.tightCentreShiftShare);
-	EXPECT_EQ(a.budgetShortMs, b.budgetShortMs);
-	EXPECT_EQ(a.shortIcpIterations, b.shortIcpIterations);
-	EXPECT_EQ(a.shortIcpRenderOnce, b.shortIcpRenderOnce);
-	EXPECT_EQ(a.shortOccludedWeight, b.shortOccludedWeight);
-	EXPECT_EQ(a.icpConfig.renderOnce, b.icpConfig.renderOnce);
-	EXPECT_EQ(none->limits.threads, bundled->limits.threads);
-	EXPECT_EQ(a.score.outlierWeight, b.score.outlierWeight);
-	EXPECT_EQ(a.score.occludedWeight, b.score.occludedWeight);
-	EXPECT_EQ(a.score.boxWeight, b.score.boxWeight);
-	EXPECT_EQ(a.score.boxOccludedSide, b.score.boxOccludedSide);
-	EXPECT_EQ(a.score.boxOccludedBandPx, b.score.boxOccludedBandPx);
-	EXPECT_EQ(a.score.residualWeight, b.score.residualWeight);
-	EXPECT_EQ(a.views.inplane, b.views.inplane);
-	EXPECT_EQ(a.views.centres, b.views.centres);
-	EXPECT_EQ(a.views.depthCentres, b.views.depthCentres);
-	EXPECT_EQ(a.views.anchorShare, b.views.anchorShare);
-	EXPECT_EQ(a.views.depthCentreWidth, b.views.depthCentreWidth);
-	EXPECT_EQ(a.views.lateralStepMm, b.views.lateralStepMm);
-	EXPECT_EQ(a.views.rotationStepDeg, b.views.rotationStepDeg);
-	EXPECT_EQ(a.views.refineTop, b.views.refineTop);
-	EXPECT_EQ(a.views.budgetRotationStepDeg, b.views.budgetRotationStepDeg);
-	EXPECT_EQ(a.views.budgetRefineTop, b.views.budgetRefineTop);
-	EXPECT_EQ(a.views.budgetCoarsePoints, b.views.budgetCoarsePoints);
-	EXPECT_EQ(a.views.budgetCoarseKeep, b.views.budgetCoarseKeep);
-	EXPECT_EQ(a.views.budgetDepthCentres, b.views.budgetDepthCentres);
-	EXPECT_EQ(a.views.budgetDepthCentreWidth, b.views.budgetDepthCentreWidth);
-	EXPECT_EQ(a.views.budgetPolishRounds, b.views.budgetPolishRounds);
-	EXPECT_EQ(a.views.leanSearchBelow, b.views.leanSearchBelow);
-	EXPECT_EQ(a.views.leanRotationStepDeg, b.views.leanRotationStepDeg);
-	EXPECT_EQ(a.views.leanCoarsePoints, b.views.leanCoarsePoints);
-	EXPECT_EQ(a.views.maxShiftMm, b.views.maxShiftMm);
-	EXPECT_EQ(a.views.inlierMm, b.views.inlierMm);
-	EXPECT_EQ(a.views.keep, b.views.keep);
-	EXPECT_EQ(a.views.boxCentre, b.views.boxCentre);
-	EXPECT_EQ(a.views.edgeInsets, b.views.edgeInsets);
-	EXPECT_EQ(a.views.edgeInsetShare, b.views.edgeInsetShare);
-	EXPECT_EQ(a.views.centreShiftShare, b.views.centreShiftShare);
-	EXPECT_EQ(a.views.budgetCentreShiftShare, b.views.budgetCentreShiftShare);
-	EXPECT_EQ(a.views.coarseAtCentre, b.views.coarseAtCentre);
-	EXPECT_EQ(a.views.coarsePoints, b.views.coarsePoints);
-	EXPECT_EQ(a.views.coarseKeep, b.views.coarseKeep);
-	EXPECT_EQ(a.halfTurns.candidates, b.halfTurns.candidates);
-	EXPECT_EQ(a.halfTurns.axes, b.halfTurns.axes);
-	EXPECT_EQ(a.halfTurns.keep, b.halfTurns.keep);
-	EXPECT_EQ(a.halfTurns.align, b.halfTurns.align);
-	EXPECT_EQ(a.halfTurns.screen, b.halfTurns.screen);
-	EXPECT_EQ(a.confidence.distinctShare, b.confidence.distinctShare);
-	EXPECT_EQ(a.confidence.fullMargin, b.confidence.fullMargin);
-	EXPECT_EQ(none->limits.maxRivals, bundled->limits.maxRivals);
-	EXPECT_EQ(none->renderMeshErrorMm, bundled->renderMeshErrorMm);
-	EXPECT_EQ(none->viewTemplates.viewpoints, bundled->viewTemplates.viewpoints);
-	EXPECT_EQ(none->viewTemplates.budgetViewpoints, bundled->viewTemplates.budgetViewpoints);
-	EXPECT_EQ(none->viewTemplates.pointsPerView, bundled->viewTemplates.pointsPerView);
+	EXPECT_EQ(bundled->estimator.frameBudgetMs, 0.0f);
 }
 
 TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
@@ -286,7 +201,7 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\nedge_insets = 9\n", "view_search.edge_insets"},
 		     {"[view_search]\nedge_inset_share = 0.6\n", "view_search.edge_inset_share"},
 		     {"[view_search]\ncentre_shift_share = -0.1\n", "view_search.centre_shift_share"},
-		     {"[view_search]\nbudget_centre_shift_share = 0.6\n", "view_search.budget_centre_shift_share"},
+		     {"[budget.view_search]\ncentre_shift_share = 0.6\n", "budget.view_search.centre_shift_share"},
 		     {"[view_search]\npoints = 1000\n", "view_search.points"},
 		     {"[view_search]\ncoarse_keep = 5000\n", "view_search.coarse_keep"},
 		     {"[view_search]\ndepth_centres = 5\n", "view_search.depth_centres"},
@@ -295,30 +210,30 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[view_search]\nlateral_step_mm = -1\n", "view_search.lateral_step_mm"},
 		     {"[view_search]\nrotation_step_deg = 50\n", "view_search.rotation_step_deg"},
 		     {"[view_search]\nrefine_top = 65\n", "view_search.refine_top"},
-		     {"[view_search]\nbudget_refine_top = 0\n", "view_search.budget_refine_top"},
-		     {"[view_search]\nbudget_rotation_step_deg = -1\n", "view_search.budget_rotation_step_deg"},
-		     {"[view_search]\nbudget_coarse_points = 300\n", "view_search.budget_coarse_points"},
-		     {"[view_search]\nbudget_coarse_keep = 0\n", "view_search.budget_coarse_keep"},
-		     {"[view_search]\nbudget_depth_centres = 5\n", "view_search.budget_depth_centres"},
-		     {"[view_search]\nbudget_depth_centre_width = 11\n", "view_search.budget_depth_centre_width"},
-		     {"[view_search]\nbudget_polish_rounds = -1\n", "view_search.budget_polish_rounds"},
-		     {"[view_search]\nbudget_viewpoints = 0\n", "view_search.budget_viewpoints"},
-		     {"[view_search]\nlean_search_below = -1\n", "view_search.lean_search_below"},
-		     {"[view_search]\nlean_rotation_step_deg = 46\n", "view_search.lean_rotation_step_deg"},
-		     {"[view_search]\nlean_coarse_points = 300\n", "view_search.lean_coarse_points"},
-		     {"[budget]\nmax_iterations = -2\n", "budget.max_iterations"},
-		     {"[budget]\nmax_depth_windows = -2\n", "budget.max_depth_windows"},
-		     {"[budget]\ntarget_parts = -1\n", "budget.target_parts"},
-		     {"[budget]\nshort_icp_iterations = -1\n", "budget.short_icp_iterations"},
-		     {"[budget]\nshort_below_ms = -1\n", "budget.short_below_ms"},
+		     {"[budget.view_search]\nrefine_top = 0\n", "budget.view_search.refine_top"},
+		     {"[budget.view_search]\nrotation_step_deg = -1\n", "budget.view_search.rotation_step_deg"},
+		     {"[budget.view_search]\ncoarse_points = 300\n", "budget.view_search.coarse_points"},
+		     {"[budget.view_search]\ncoarse_keep = 0\n", "budget.view_search.coarse_keep"},
+		     {"[budget.view_search]\ndepth_centres = 5\n", "budget.view_search.depth_centres"},
+		     {"[budget.view_search]\ndepth_centre_width = 11\n", "budget.view_search.depth_centre_width"},
+		     {"[budget]\npolish_rounds = -1\n", "budget.polish_rounds"},
+		     {"[budget.view_search]\nviewpoints = 0\n", "budget.view_search.viewpoints"},
+		     {"[lean]\nbelow_searches = -1\n", "lean.below_searches"},
+		     {"[lean.view_search]\nrotation_step_deg = 46\n", "lean.view_search.rotation_step_deg"},
+		     {"[lean.view_search]\ncoarse_points = 300\n", "lean.view_search.coarse_points"},
+		     {"[budget.refinement]\niterations = -1\n", "budget.refinement.iterations"},
+		     {"[budget.refinement]\ndepth_windows = -1\n", "budget.refinement.depth_windows"},
+		     {"[budget.refinement]\ntarget_parts = 0\n", "budget.refinement.target_parts"},
+		     {"[short.icp]\niterations = 0\n", "short.icp.iterations"},
+		     {"[short]\nbelow_ms = -1\n", "short.below_ms"},
 		     {"[score]\nbox_occluded_side = 1.5\n", "score.box_occluded_side"},
 		     {"[score]\nbox_occluded_band_px = 0\n", "score.box_occluded_band_px"},
 		     {"[score]\nbox_weight = -1\n", "score.box_weight"},
-		     {"[modal_boxes]\nbox_weight = -1\n", "modal_boxes.box_weight"},
-		     {"[modal_boxes]\noccluded_weight = -0.1\n", "modal_boxes.occluded_weight"},
-		     {"[modal_boxes]\nbox_occluded_side = 2\n", "modal_boxes.box_occluded_side"},
+		     {"[modal_boxes.score]\nbox_weight = -1\n", "modal_boxes.score.box_weight"},
+		     {"[modal_boxes.score]\noccluded_weight = -0.1\n", "modal_boxes.score.occluded_weight"},
+		     {"[modal_boxes.score]\nbox_occluded_side = 2\n", "modal_boxes.score.box_occluded_side"},
 		     {"[boxes]\nkind = \"visible\"\n", "boxes.kind"},
-		     {"[budget]\nshort_occluded_weight = nan\n", "budget.short_occluded_weight"},
+		     {"[short.score]\noccluded_weight = nan\n", "short.score.occluded_weight"},
 		     {"[half_turns]\ncandidates = 5\n", "half_turns.candidates"},
 		     {"[half_turns]\nkeep = 0\n", "half_turns.keep"},
 		     {"[half_turns]\nscreen = 33\n", "half_turns.screen"},
@@ -331,13 +246,13 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 		     {"[votes]\nmax_shift_votes = -1\n", "votes.max_shift_votes"},
 		     {"[limits]\nthreads = 9\n", "limits.threads"},
 		     {"[limits]\nthreads = -1\n", "limits.threads"},
-		     {"[refinement]\niteration_target_parts = -1\n", "refinement.iteration_target_parts"},
-		     {"[refinement]\niteration_ibs_max_points = -1\n", "refinement.iteration_ibs_max_points"},
-		     {"[refinement]\niteration_ibs_cg_iterations = -1\n", "refinement.iteration_ibs_cg_iterations"},
-		     {"[refinement]\niteration_max_shift_votes = -1\n", "refinement.iteration_max_shift_votes"},
+		     {"[iteration.refinement]\ntarget_parts = 0\n", "iteration.refinement.target_parts"},
+		     {"[iteration.refinement]\nibs_max_points = -1\n", "iteration.refinement.ibs_max_points"},
+		     {"[iteration.refinement]\nibs_cg_iterations = -1\n", "iteration.refinement.ibs_cg_iterations"},
+		     {"[iteration.votes]\nmax_shift_votes = -1\n", "iteration.votes.max_shift_votes"},
 		     {"[refinement]\nresearch_rounds = -1\n", "refinement.research_rounds"},
 		     {"[refinement]\nresearch_polish = 17\n", "refinement.research_polish"},
-		     {"[budget]\nmax_research_rounds = -2\n", "budget.max_research_rounds"},
+		     {"[budget.refinement]\nresearch_rounds = -1\n", "budget.refinement.research_rounds"},
 		     {"[refinement]\npsi1 = 1.1\npsi2 = 1.0\n", "refinement.psi1/psi2"}}) {
 		std::ofstream(dir / "e.toml") << text;
 		auto s = loadEstimateConfig(dir / "e.toml");
@@ -380,7 +295,7 @@ TEST(EstimateConfig, TheBoxKindSelectsTheScoreWeights)
 	// A file's own weights for either kind, and the kind chosen in it.
 	const fs::path dir = test::freshTempDir("estimate_config_box_kind");
 	std::ofstream(dir / "e.toml") << "[boxes]\nkind = \"modal\"\n[score]\noccluded_weight = 0.3\n"
-					  "[modal_boxes]\noccluded_weight = 0.4\nbox_weight = 2.0\nbox_occluded_side = 0.25\n";
+					  "[modal_boxes.score]\noccluded_weight = 0.4\nbox_weight = 2.0\nbox_occluded_side = 0.25\n";
 	auto own = loadEstimateConfig(dir / "e.toml");
 	ASSERT_TRUE(own.ok()) << own.error().message;
 	EXPECT_EQ(own->boxKind, BoxKind::kModal);

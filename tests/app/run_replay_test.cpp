@@ -114,7 +114,8 @@ protected:
 					 q(d / "ds"));
 		ASSERT_EQ(r.exitCode, 0) << r.output;
 		std::ofstream(d / "train.toml") << "[views]\nviewpoints = 20\ninplane_steps = 2\n"
-						   "[scales]\nfactors = [1.0]\nparts_per_image = 8\n";
+						   "[scales]\nfactors = [1.0]\nparts_per_image = 8\noccluded_views = 0.0\n"
+					   "[parts]\nkind = \"variable\"\nmax_control_points = 256\n";
 		r = runIhf("train --model " + q(models / "obj_000020.ply") + " --config " + q(d / "train.toml") +
 			   " --out " + q(d / "bunny.ihf"));
 		ASSERT_EQ(r.exitCode, 0) << r.output;
@@ -440,7 +441,7 @@ TEST_F(RunReplay, RealTimeReplayDropsFramesOlderThanTheBudget)
 	// 30 fps, a 1 ms budget: frame 0 is taken at once; estimating it takes far
 	// longer than the 67 ms until frames 1 and 2 are due, so both are late.
 	const fs::path &d = *dir_;
-	CommandResult r = runIhf("run --config " + q(d / "device.toml") + " --real-time --frame-budget-ms 1" +
+	CommandResult r = runIhf("run --config " + q(d / "device.toml") + " --real-time --drop-frames-older-than-ms 1" +
 				 " --out file:" + q(d / "late.jsonl"));
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	EXPECT_NE(r.output.find("end of stream; frames 3 processed 1 late 2"), std::string::npos) << r.output;

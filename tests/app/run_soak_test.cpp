@@ -136,7 +136,8 @@ TEST(RunSoak, LoopedRunCountsBadInputsKeepsThePosesAndItsMemoryFlat)
 				 "--miss 0 --change 0 --quiet --out " + q(d / "seq"));
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	std::ofstream(d / "train.toml") << "[views]\nviewpoints = 20\ninplane_steps = 2\n"
-					   "[scales]\nfactors = [1.0]\nparts_per_image = 8\n";
+					   "[scales]\nfactors = [1.0]\nparts_per_image = 8\noccluded_views = 0.0\n"
+					   "[parts]\nkind = \"variable\"\nmax_control_points = 256\n";
 	r = runIhf("train --model " + q(models / "obj_000020.ply") + " --config " + q(d / "train.toml") + " --out " +
 		   q(d / "bunny.ihf"));
 	ASSERT_EQ(r.exitCode, 0) << r.output;

@@ -180,7 +180,7 @@ TEST_F(EstimateCli, TheTraceEndsEachBoxWithItsResult)
 TEST_F(EstimateCli, BudgetFromTheConfiguration)
 {
 	const auto cfg = *dir_ / "tiny_budget.toml";
-	std::ofstream(cfg) << "[budget]\nframe_ms = 0.01\n";
+	std::ofstream(cfg) << "[budget]\nestimation_budget_ms = 0.01\n";
 	auto r = test::runIhf(args("--iterations 3 --config '" + cfg.string() + "'"));
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	// Far too little time: both boxes keep their initial registration, which
@@ -196,16 +196,16 @@ TEST_F(EstimateCli, BudgetFromTheConfiguration)
 TEST_F(EstimateCli, ABadBudgetValueNamesFileAndKey)
 {
 	const auto cfg = *dir_ / "bad_budget.toml";
-	std::ofstream(cfg) << "[budget]\nframe_ms = \"fast\"\n";
+	std::ofstream(cfg) << "[budget]\nestimation_budget_ms = \"fast\"\n";
 	auto r = test::runIhf(args("--config '" + cfg.string() + "'"));
 	EXPECT_EQ(r.exitCode, 1) << r.output;
 	EXPECT_NE(r.output.find("bad_budget.toml"), std::string::npos) << r.output;
-	EXPECT_NE(r.output.find("frame_ms"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("estimation_budget_ms"), std::string::npos) << r.output;
 	// Out of range: the tight profile's threshold cannot be negative.
-	std::ofstream(cfg) << "[budget]\ntight_below_ms = -5.0\n";
+	std::ofstream(cfg) << "[tight]\nbelow_ms = -5.0\n";
 	r = test::runIhf(args("--config '" + cfg.string() + "'"));
 	EXPECT_EQ(r.exitCode, 1) << r.output;
-	EXPECT_NE(r.output.find("budget.tight_below_ms"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("tight.below_ms"), std::string::npos) << r.output;
 }
 
 // Estimation needs no ground truth: on a copy of the LM-O frame with only
