@@ -15,7 +15,8 @@ namespace ihf {
 
 Expected<Mesh> loadPly(const std::filesystem::path &path);
 
-// Writes a binary little-endian PLY (vertices, normals if present, faces).
+// Writes a binary little-endian PLY (vertices, normals if present, faces;
+// ply_writer.cpp).
 Status savePly(const std::filesystem::path &path, const Mesh &mesh);
 
 } // namespace ihf
