@@ -198,7 +198,8 @@ void PoseStage::describe(std::string &line) const
 			      "forced %llu duplicates %llu tracks started %llu lost %llu",
 			      static_cast<unsigned long long>(t.tracked), static_cast<unsigned long long>(t.detected),
 			      static_cast<unsigned long long>(t.redetected), static_cast<unsigned long long>(t.deferred),
-			      static_cast<unsigned long long>(t.provisional), static_cast<unsigned long long>(t.forced), static_cast<unsigned long long>(t.duplicates),
+			      static_cast<unsigned long long>(t.provisional), static_cast<unsigned long long>(t.forced),
+			      static_cast<unsigned long long>(t.duplicates),
 			      static_cast<unsigned long long>(t.started), static_cast<unsigned long long>(t.lost));
 		line += buf;
 	}

@@ -14,7 +14,8 @@
 // a detection that does not fit waits for the next frame (counted, and its
 // box answered as deferred: with the tracked pose that was not kept, when
 // one was scored, as an unconfirmed answer with its own confidence), and
-// one that has waited maxDeferFrames runs whatever the time left. A track with no box for maxMissedFrames ends.
+// one that has waited maxDeferFrames runs whatever the time left. A track
+// with no box for maxMissedFrames ends.
 // Nothing here allocates after construction: tracks, per-frame lists and
 // the refiner's buffers are fixed at start-up.
 
