@@ -480,6 +480,8 @@ void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth
 	// The frame's deadline and its overrun count are the budget planner's,
 	// as for the detector's own frames.
 	frame_.beginFrame(static_cast<int>(boxes.size()), budgetMs);
+	if (!frame_.unlimited())
+		overshootMs_ = std::max(overshootMs_, reserveFloorMs(budgetMs));
 	++stats_.frames;
 	const size_t n = std::min(boxes.size(), static_cast<size_t>(kMaxBoxes));
 	for (size_t i = 0; i < boxes.size(); ++i) {
@@ -527,8 +529,8 @@ void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth
 	// The frame's own overshoot too (its tracked boxes ran before its
 	// detections were planned); the reserve fades a frame at a time.
 	if (!frame_.unlimited())
-		overshootMs_ =
-			std::max(static_cast<double>(end - frame_.frame().frameDeadline()) * 1e-6, overshootMs_ * kOvershootDecay);
+		overshootMs_ = std::max({static_cast<double>(end - frame_.frame().frameDeadline()) * 1e-6,
+					 overshootMs_ * kOvershootDecay, reserveFloorMs(budgetMs)});
 	frame_.endFrame(end);
 }
 

@@ -285,6 +285,36 @@ TEST_F(StreamEstimatorTest, TrackedBoxesRunFirstAndDetectionsThatDoNotFitWait)
 	EXPECT_EQ(stream.stats().maxWait, 2);
 }
 
+// A clock that stands still: every stage costs nothing, so the frame's
+// plan is its budget less the reserve alone.
+class StillClock final : public Clock
+{
+public:
+	int64_t nowNs() const override { return 0; }
+};
+
+TEST_F(StreamEstimatorTest, AFrameKeepsAReserveOfItsBudgetForStagesThatRunLong)
+{
+	StillClock clock;
+	PoseEstimator detector({}, &clock);
+	TrackerConfig tc;
+	tc.detectMinMs = 20;
+	const Pose a = test::viewAt(*model_, 37, {-150, -40, 800}), b = test::viewAt(*model_, 12, {0, 60, 800}),
+		   c = test::viewAt(*model_, 25, {150, -40, 800});
+	const Scene scene = render({a, b, c});
+	auto detected = [](const std::vector<StreamResult> &r) {
+		return std::count_if(r.begin(), r.end(), [](const StreamResult &x) { return x.mode == BoxMode::kDetect; });
+	};
+	// 40 ms hold two detections of 20 ms, but not with 5 % kept back.
+	StreamEstimator tight(detector, tc, &clock);
+	EXPECT_EQ(detected(run(tight, 0, scene, boxesOf(scene), 40)), 1);
+	EXPECT_EQ(tight.stats().deferred, 2u);
+	// 42.2 ms less 5 % (2.11 ms) hold two.
+	StreamEstimator roomy(detector, tc, &clock);
+	EXPECT_EQ(detected(run(roomy, 0, scene, boxesOf(scene), 42.2f)), 2);
+	EXPECT_EQ(roomy.stats().deferred, 1u);
+}
+
 TEST_F(StreamEstimatorTest, SpareTimeInABudgetedFrameDetectsATrackedBoxAgain)
 {
 	test::StepClock clock(kMs);
