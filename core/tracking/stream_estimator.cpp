@@ -295,10 +295,9 @@ void StreamEstimator::trackBox(size_t i, uint64_t frame, ImageView<const float> 
 	}
 	++stats_.rejected[static_cast<size_t>(refined.verdict)];
 	// Kept aside: the box's answer should its detection have to wait.
-	if (refined.scored) {
+	if (refined.scored)
 		r.estimate = refined.estimate;
-		r.provisional = true;
-	}
+	hasTrackedPose_[i] = refined.scored;
 	needsDetection_[i] = true;
 }
 
@@ -342,7 +341,6 @@ void StreamEstimator::detectBoxes(uint64_t frame, ImageView<const float> depth, 
 			StreamResult &r = results[i];
 			const int64_t t0 = clock_.nowNs();
 			r.estimate = detector_.estimate(depth, K, boxes[i].box, *t.model, config);
-			r.provisional = false;
 			r.startNs = t0;
 			r.ns = clock_.nowNs() - t0;
 			count(stats_.detectTime, r.ns);
@@ -373,7 +371,8 @@ void StreamEstimator::detectBoxes(uint64_t frame, ImageView<const float> depth, 
 		// A tracked pose scored this frame, though not kept, is a better
 		// answer than none while the detection waits; its confidence says
 		// how far to trust it.
-		if (r.provisional) {
+		if (hasTrackedPose_[i]) {
+			r.provisional = true;
 			r.estimate.found = true;
 			r.estimate.reason = "tracked pose not kept, waits for a detection in a later frame";
 			++stats_.provisional;
@@ -487,6 +486,7 @@ void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth
 	for (size_t i = 0; i < boxes.size(); ++i) {
 		results[i] = StreamResult{};
 		needsDetection_[i % kMaxBoxes] = false;
+		hasTrackedPose_[i % kMaxBoxes] = false;
 	}
 	for (size_t i = n; i < boxes.size(); ++i)
 		results[i].estimate.reason = "more boxes in the frame than the tracker holds";

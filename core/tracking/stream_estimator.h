@@ -157,6 +157,7 @@ private:
 	// Per frame: each box's track (null: none) and what it needs.
 	std::array<Track *, kMaxBoxes> trackOf_{};
 	std::array<bool, kMaxBoxes> needsDetection_{};
+	std::array<bool, kMaxBoxes> hasTrackedPose_{}; // a tracked pose, not kept, scored (in its result)
 	std::array<int, kMaxBoxes> order_{};
 	std::array<int, kMaxBoxes> duplicateOf_{}; // the box a duplicate repeats, -1: none
 	std::array<bool, kMaxBoxes> byOverlap_{};  // matched by overlap: no detector id, or one not its own
