@@ -103,15 +103,18 @@ for name in "${names[@]}"; do
 	fuzz_one "$name" &
 done
 wait || true
-status=0
+# Each harness printed its line as it ended; the summary names the failed.
+status=0 failed=0
 for name in "${names[@]}"; do
-	if [ -f "$work/$name.result" ]; then
-		sed -n 1p "$work/$name.result" | sed 's/^/fuzz: /' >&2
-		[ "$(sed -n 2p "$work/$name.result")" = 0 ] || status=1
+	if [ ! -f "$work/$name.result" ]; then
+		echo "fuzz: failed: $name: no result" >&2
+	elif [ "$(sed -n 2p "$work/$name.result")" != 0 ]; then
+		sed -n 1p "$work/$name.result" | sed 's/^/fuzz: failed: /' >&2
 	else
-		echo "fuzz: $name: no result" >&2
-		status=1
+		continue
 	fi
+	status=1
+	failed=$((failed + 1))
 done
-echo "fuzz: runs $((SECONDS - t0)) s ($parallel at once)" >&2
+echo "fuzz: ${#names[@]} harnesses, $failed failed, runs $((SECONDS - t0)) s ($parallel at once)" >&2
 exit "$status"
