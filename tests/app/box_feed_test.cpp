@@ -14,8 +14,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "firmware_app/box_feed.h"
-#include "firmware_app/pose_output.h"
+#include "firmware_app/runtime/box_feed.h"
+#include "firmware_app/runtime/pose_output.h"
 #include "tests/common/test_paths.h"
 
 namespace ihf::app {

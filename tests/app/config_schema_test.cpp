@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The key descriptors (firmware_app/config_keys.cpp) drive the readers, the
+// The key descriptors (firmware_app/config/config_keys.cpp) drive the readers, the
 // range checks, `ihf config` and docs/configuration.md: every default lies
 // in its key's range; the shipped files hold the user settings, at their
 // defaults; profiles override only what they list; unknown keys and values
@@ -13,9 +13,9 @@
 
 #include <gtest/gtest.h>
 
-#include "firmware_app/config_reference.h"
-#include "firmware_app/config_schema.h"
-#include "firmware_app/pipeline_config.h"
+#include "firmware_app/config/config_reference.h"
+#include "firmware_app/config/config_schema.h"
+#include "firmware_app/config/pipeline_config.h"
 #include "tests/common/test_paths.h"
 
 namespace ihf::app {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The one forest-loading path of ihf estimate and ihf run
-// (firmware_app/forest_set.h): OBJ_ID=FILE options parsed with clear
+// (firmware_app/runtime/forest_set.h): OBJ_ID=FILE options parsed with clear
 // errors, each forest loaded and prepared, the estimator's limits grown to
 // hold it, and a missing or bad file refused naming the file.
 
@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "firmware_app/forest_set.h"
+#include "firmware_app/runtime/forest_set.h"
 #include "tests/common/test_paths.h"
 
 namespace ihf::app {

@@ -10,7 +10,7 @@
 
 #include "core/geometry/ply_loader.h"
 #include "core/model/object_model.h"
-#include "firmware_app/pipeline_config.h"
+#include "firmware_app/config/pipeline_config.h"
 #include "tests/common/test_paths.h"
 
 namespace ihf::app {

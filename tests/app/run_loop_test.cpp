@@ -15,8 +15,8 @@
 
 #include "drivers/recording_source.h"
 #include "drivers/recording_writer.h"
-#include "firmware_app/run_loop.h"
-#include "firmware_app/usb_presence.h"
+#include "firmware_app/runtime/run_loop.h"
+#include "firmware_app/runtime/usb_presence.h"
 #include "tests/app/small_recording.h"
 #include "tests/common/test_paths.h"
 

@@ -20,8 +20,8 @@
 
 #include "drivers/recording_source.h"
 #include "drivers/recording_writer.h"
-#include "firmware_app/run_loop.h"
-#include "firmware_app/service_notify.h"
+#include "firmware_app/runtime/run_loop.h"
+#include "firmware_app/runtime/service_notify.h"
 #include "tests/app/small_recording.h"
 #include "tests/common/test_paths.h"
 

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "firmware_app/warm_up_note.h"
+#include "firmware_app/runtime/warm_up_note.h"
 
 namespace ihf::app {
 namespace {
