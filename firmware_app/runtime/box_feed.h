@@ -27,15 +27,10 @@
 #include <vector>
 
 #include "core/common/expected.h"
+#include "firmware_app/runtime/frame_box.h"
 #include "firmware_app/runtime/shutdown_signal.h"
 
 namespace ihf::app {
-
-struct FrameBox {
-	int objId = 0;
-	std::array<double, 4> bbox{0, 0, 0, 0}; // x, y, w, h pixels
-	int trackId = 0; // the detector's track, 0: none
-};
 
 struct BoxFeedCounters {
 	uint64_t lines = 0; // lines read
