@@ -17,9 +17,9 @@
 #include "drivers/source_factory.h"
 #include "firmware_app/runtime/box_feed.h"
 #include "firmware_app/commands/command.h"
-#include "firmware_app/runtime/forest_set.h"
 #include "firmware_app/config/pipeline_config.h"
 #include "firmware_app/runtime/pose_output.h"
+#include "firmware_app/runtime/pose_pipeline.h"
 #include "firmware_app/runtime/pose_stage.h"
 #include "firmware_app/runtime/run_loop.h"
 #include "firmware_app/runtime/service_notify.h"
@@ -112,9 +112,15 @@ int runRun(const RunOptions &o)
 	if (rs.boxKind)
 		useBoxKind(*es, *rs.boxKind);
 
-	Expected<ForestSet> forests = ForestSet::load(rs.forests, *es, "ihf run");
-	if (!forests)
-		return failWith(forests.error().message);
+	// Tracking follows each object from frame to frame; --vis pictures the
+	// cold estimator's iterations, so it detects every box.
+	const bool tracking = rs.tracking.enabled && !o.noTracking && o.vis.empty();
+	SteadyPacingClock clock;
+	Expected<std::unique_ptr<PosePipeline>> pipeline =
+		PosePipeline::create(rs.forests, *es, tracking ? &rs.tracking : nullptr, clock, "ihf run");
+	if (!pipeline)
+		return failWith(pipeline.error().message);
+	PosePipeline &poses = **pipeline;
 
 	// Reconnecting closes and reopens the source: OpenNI2 must not unload
 	// its drivers in between (see OpenNi2Session).
@@ -138,27 +144,15 @@ int runRun(const RunOptions &o)
 	if (!output)
 		return failWith(output.error().message);
 
-	PoseEstimator estimator(es->limits);
-	SteadyPacingClock clock;
-	PoseStage stage(forests->models(), estimator, es->estimator, **feed, **output, clock,
-			std::chrono::milliseconds(rs.boxesTimeoutMs));
-	// Tracking follows each object from frame to frame; --vis pictures the
-	// cold estimator's iterations, so it detects every box.
-	std::unique_ptr<StreamEstimator> tracker;
-	if (rs.tracking.enabled && !o.noTracking && o.vis.empty()) {
-		tracker = std::make_unique<StreamEstimator>(estimator, rs.tracking);
-		if (!tracker->valid())
-			return failWith("the tracker's memory could not be allocated");
-		stage.setTracker(tracker.get());
-	}
+	PoseStage stage(poses.frames(), **feed, **output, clock, std::chrono::milliseconds(rs.boxesTimeoutMs));
 	std::unique_ptr<VisWriter> vis;
 	if (!o.vis.empty()) {
 		Expected<std::unique_ptr<VisWriter>> v = VisWriter::create(o.vis, es->limits);
 		if (!v)
 			return failWith(v.error().message);
 		vis = std::move(v.value());
-		estimator.setObserver(vis.get());
-		stage.setBoxObserver(vis.get());
+		poses.estimator().setObserver(vis.get());
+		poses.frames().setBoxObserver(vis.get());
 	}
 
 	RunLoopConfig lc;

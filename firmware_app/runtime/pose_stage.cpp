@@ -5,16 +5,12 @@
 #include <cmath>
 #include <string>
 
-#include "firmware_app/runtime/warm_up_note.h"
 
 namespace ihf::app {
 
-
-PoseStage::PoseStage(std::map<int, const ObjectModel *> models, PoseEstimator &estimator,
-		     const EstimatorConfig &config, BoxFeed &feed, PoseOutput &output, PacingClock &clock,
+PoseStage::PoseStage(FrameEstimator &frames, BoxFeed &feed, PoseOutput &output, PacingClock &clock,
 		     std::chrono::milliseconds boxesTimeout)
-	: models_(std::move(models)), estimator_(estimator), config_(config), feed_(feed),
-	  output_(output), clock_(clock), boxesTimeout_(boxesTimeout)
+	: frames_(frames), feed_(feed), output_(output), clock_(clock), boxesTimeout_(boxesTimeout)
 {
 }
 
@@ -25,14 +21,7 @@ Status PoseStage::prepare(const SourceInfo &info)
 		return makeError(Errc::kInvalidArgument, info.uri + ": source reports no frame size");
 	if (depthMm_.width() != k.width || depthMm_.height() != k.height)
 		depthMm_ = Image<float>(k.width, k.height);
-	// Under a budget the first frame's stages must be predicted from a
-	// measurement, not taken as free: one synthetic box per object now.
-	if (config_.frameBudgetMs > 0)
-		for (const auto &[id, model] : models_)
-			if (const std::string note = warmUpNote(id, estimator_.warmUp(*model, k, config_),
-								config_.frameBudgetMs);
-			    !note.empty())
-				std::fprintf(stderr, "ihf run: %s\n", note.c_str());
+	frames_.warmUp(k, "ihf run");
 	return {};
 }
 
@@ -55,8 +44,8 @@ Status PoseStage::process(const Frame &frame, int64_t arrivalNs)
 		++counters_.framesWithoutBoxes;
 		// A frame the detector saw nothing in ages the tracks, as in
 		// ihf estimate --sequence.
-		if (tracker_ && *waited == BoxWait::kBoxes)
-			tracker_->estimateFrame(frame.index, {}, frame.intrinsics, {}, config_, config_.frameBudgetMs, {});
+		if (*waited == BoxWait::kBoxes)
+			frames_.skipFrame(frame.index, frame.intrinsics);
 		return {};
 	}
 
@@ -74,80 +63,25 @@ Status PoseStage::process(const Frame &frame, int64_t arrivalNs)
 	CameraIntrinsics K = frame.intrinsics;
 	K.width = raw.width;
 	K.height = raw.height;
-
-	if (tracker_)
-		return processTracked(frame, K, arrivalNs);
-	// The frame's boxes share the estimator's frame budget.
-	struct FrameScope {
-		PoseEstimator &e;
-		~FrameScope() { e.endFrame(); }
-	} frameScope{estimator_};
-	estimator_.beginFrame(static_cast<int>(feed_.boxes().size()), config_.frameBudgetMs);
-	for (const FrameBox &b : feed_.boxes()) {
-		++counters_.boxes;
-		auto it = models_.find(b.objId);
-		if (it == models_.end()) {
-			if (Status st = writeUnknownObject(frame.index, b.objId); !st)
-				return st;
-			continue;
-		}
-		const PixelBox box = pixelsOfBox(b.bbox);
-		if (observer_)
-			observer_->begin(frame.index, b.objId, box);
-		const int64_t t0 = clock_.nowNs();
-		const PoseEstimate e = estimator_.estimate(depthMm_.view(), K, box, *it->second, config_);
-		const int64_t t1 = clock_.nowNs();
-		if (observer_)
-			observer_->end(depthMm_.view(), K, *it->second, e);
-		if (Status st = writeResult(frame.index, b.objId, e, (t1 - t0) * 1e-6, arrivalNs, nullptr, 0); !st)
-			return st;
-	}
-	return {};
+	frame_ = frame.index;
+	arrivalNs_ = arrivalNs;
+	return frames_.estimate(frame.index, depthMm_.view(), K, feed_.boxes(), *this);
 }
 
-Status PoseStage::processTracked(const Frame &frame, const CameraIntrinsics &K, int64_t arrivalNs)
+Status PoseStage::onBox(const FrameBox &box, const ObjectModel *model, const StreamResult &r)
 {
-	const std::span<const FrameBox> boxes = feed_.boxes();
-	const size_t n = std::min(boxes.size(), streamBoxes_.size());
-	for (size_t i = 0; i < n; ++i) {
-		const FrameBox &b = boxes[i];
-		auto it = models_.find(b.objId);
-		streamBoxes_[i] = StreamBox{b.objId, pixelsOfBox(b.bbox), b.trackId, it == models_.end() ? nullptr : it->second};
-	}
-	tracker_->estimateFrame(frame.index, depthMm_.view(), K, std::span<const StreamBox>(streamBoxes_.data(), n),
-				config_, config_.frameBudgetMs, std::span<StreamResult>(streamResults_.data(), n));
-	for (size_t i = 0; i < boxes.size(); ++i) {
-		++counters_.boxes;
-		const int objId = boxes[i].objId;
-		if (i >= n) {
-			if (Status st = output_.writeError(static_cast<int64_t>(frame.index), objId,
-							   "more boxes in the frame than the tracker holds");
-			    !st)
-				return st;
-			continue;
-		}
-		if (!streamBoxes_[i].model) {
-			if (Status st = writeUnknownObject(frame.index, objId); !st)
-				return st;
-			continue;
-		}
-		const StreamResult &r = streamResults_[i];
-		if (r.mode == BoxMode::kDeferred)
-			++counters_.deferred;
-		if (r.mode == BoxMode::kDeferred && !r.provisional) {
-			if (Status st = output_.writeError(static_cast<int64_t>(frame.index), objId,
-							   "deferred: waits for a detection in a later frame",
-							   boxModeName(r.mode), r.trackId);
-			    !st)
-				return st;
-			continue;
-		}
-		if (Status st = writeResult(frame.index, objId, r.estimate, r.ns * 1e-6, arrivalNs, boxModeName(r.mode),
-					    r.trackId);
-		    !st)
-			return st;
-	}
-	return {};
+	++counters_.boxes;
+	if (!model)
+		return writeUnknownObject(frame_, box.objId);
+	if (!frames_.tracker())
+		return writeResult(frame_, box.objId, r.estimate, r.ns * 1e-6, arrivalNs_, nullptr, 0);
+	if (r.mode == BoxMode::kDeferred)
+		++counters_.deferred;
+	if (r.mode == BoxMode::kDeferred && !r.provisional)
+		return output_.writeError(static_cast<int64_t>(frame_), box.objId,
+					  "deferred: waits for a detection in a later frame", boxModeName(r.mode),
+					  r.trackId);
+	return writeResult(frame_, box.objId, r.estimate, r.ns * 1e-6, arrivalNs_, boxModeName(r.mode), r.trackId);
 }
 
 Status PoseStage::writeUnknownObject(uint64_t frame, int objId)
@@ -191,8 +125,9 @@ void PoseStage::describe(std::string &line) const
 		      static_cast<unsigned long long>(counters_.unknownObject),
 		      static_cast<unsigned long long>(counters_.inputErrors));
 	line += buf;
-	if (tracker_) {
-		const TrackingStats &t = tracker_->stats();
+	const StreamEstimator *tracker = frames_.tracker();
+	if (tracker) {
+		const TrackingStats &t = tracker->stats();
 		std::snprintf(buf, sizeof(buf),
 			      "; tracking: tracked %llu detected %llu (re-detected %llu) deferred %llu (provisional %llu) "
 			      "forced %llu duplicates %llu tracks started %llu lost %llu",
@@ -203,13 +138,15 @@ void PoseStage::describe(std::string &line) const
 			      static_cast<unsigned long long>(t.started), static_cast<unsigned long long>(t.lost));
 		line += buf;
 	}
-	if (config_.frameBudgetMs > 0) {
+	const float budgetMs = frames_.config().frameBudgetMs;
+	const PoseEstimator &estimator = frames_.estimator();
+	if (budgetMs > 0) {
 		// What the device's frame budget cost: the same counts as ihf estimate's.
-		const EstimatorStats st = estimator_.stats();
+		const EstimatorStats st = estimator.stats();
 		std::snprintf(buf, sizeof(buf),
 			      "; budget %g ms: overruns %llu frames %llu boxes (%llu in the initial registration)"
 			      " cut-short %llu iterations %llu tight %llu short %llu lean-search %llu worst-frame %.1f ms",
-			      static_cast<double>(config_.frameBudgetMs),
+			      static_cast<double>(budgetMs),
 			      static_cast<unsigned long long>(st.frameOverruns),
 			      static_cast<unsigned long long>(st.boxOverruns),
 			      static_cast<unsigned long long>(st.registrationOverruns),
@@ -230,11 +167,11 @@ void PoseStage::describe(std::string &line) const
 	}
 	// The frame path's fixed memory: how much of each arena the largest box
 	// so far needed (flat once every kind of box has been seen).
-	std::snprintf(buf, sizeof(buf), "; arena high-water %zu of %zu bytes", estimator_.arenaUsed(),
-		      estimator_.arenaCapacity());
+	std::snprintf(buf, sizeof(buf), "; arena high-water %zu of %zu bytes", estimator.arenaUsed(),
+		      estimator.arenaCapacity());
 	line += buf;
-	if (tracker_) {
-		std::snprintf(buf, sizeof(buf), " (tracker %zu of %zu)", tracker_->arenaUsed(), tracker_->arenaCapacity());
+	if (tracker) {
+		std::snprintf(buf, sizeof(buf), " (tracker %zu of %zu)", tracker->arenaUsed(), tracker->arenaCapacity());
 		line += buf;
 	}
 }

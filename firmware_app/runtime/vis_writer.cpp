@@ -22,7 +22,8 @@ Expected<std::unique_ptr<VisWriter>> VisWriter::create(const std::filesystem::pa
 	return v;
 }
 
-void VisWriter::begin(uint64_t frame, int objId, const PixelBox &box)
+void VisWriter::begin(uint64_t frame, int objId, const PixelBox &box, ImageView<const float>, const CameraIntrinsics &,
+		      const ObjectModel &)
 {
 	frame_ = frame;
 	objId_ = objId;

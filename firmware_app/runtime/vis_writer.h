@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "core/estimation/pose_estimator.h"
-#include "firmware_app/runtime/pose_stage.h"
+#include "firmware_app/runtime/frame_estimator.h"
 
 namespace ihf::app {
 
@@ -26,7 +26,8 @@ public:
 							   const EstimatorLimits &limits);
 
 	void onHypothesis(const HypothesisEvent &event) override;
-	void begin(uint64_t frame, int objId, const PixelBox &box) override;
+	void begin(uint64_t frame, int objId, const PixelBox &box, ImageView<const float> depthMm,
+		   const CameraIntrinsics &K, const ObjectModel &model) override;
 	void end(ImageView<const float> depthMm, const CameraIntrinsics &K, const ObjectModel &model,
 		 const PoseEstimate &estimate) override;
 
