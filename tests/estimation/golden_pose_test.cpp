@@ -277,7 +277,7 @@ TEST(GoldenPose, Amd64ForestAndFrameGiveTheAmd64Poses)
 	if (write) {
 		std::ofstream out(posesFile());
 		out << "# box x y w h, found, R (row-major), t (mm), score, votes, parts, best iteration\n"
-		    << "# written on amd64 by tests/estimation/test_golden_pose.cpp\n";
+		    << "# written on amd64 by tests/estimation/golden_pose_test.cpp\n";
 		for (const GoldenBox &g : got)
 			out << formatBox(g) << '\n';
 		ASSERT_TRUE(out.good());
