@@ -5,7 +5,6 @@
 #include <cmath>
 #include <string>
 
-
 namespace ihf::app {
 
 PoseStage::PoseStage(FrameEstimator &frames, BoxFeed &feed, PoseOutput &output, PacingClock &clock,
