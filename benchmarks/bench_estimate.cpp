@@ -38,7 +38,7 @@
 #include "core/model/forest_file.h"
 #include "core/training/hocp_split_metric.h"
 #include "core/training/training_set.h"
-#include "firmware_app/pipeline_config.h"
+#include "firmware_app/config/pipeline_config.h"
 
 #ifndef IHF_SHARED_DIR
 #define IHF_SHARED_DIR "../shared"

@@ -4,7 +4,7 @@
 
 #include <cstdio>
 
-#include "firmware_app/command.h"
+#include "firmware_app/commands/command.h"
 
 int main(int argc, char **argv)
 {

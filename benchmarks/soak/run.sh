@@ -30,7 +30,7 @@ cd "$out"
 
 # A 150-frame sequence of the bunny (5 s at 30 Hz), a tiny forest and a
 # lean, unbudgeted detector (poses that do not depend on the machine's
-# speed), as in tests/app/run_soak_test.cpp.
+# speed), as in tests/app/commands/run_soak_test.cpp.
 [ -d seq ] || "$ihf" synth --sequence --models "$models" --objects 20 --sequences 1 --frames 150 --seed 3 \
 	--quiet --out seq
 if [ ! -f bunny.ihf ]; then

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-// Reads the JSON lines `ihf run` writes (firmware_app/pose_output.h), for
+// Reads the JSON lines `ihf run` writes (firmware_app/runtime/pose_output.h), for
 // comparing them with ground truth:
 //
 //   pose:  {"frame": F, "obj_id": O, "R": [9 numbers, row-major], "t": [x, y, z], ...}

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <limits>
 
-#include "firmware_app/box_feed.h"
+#include "firmware_app/runtime/box_feed.h"
 #include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

@@ -2,7 +2,7 @@
 // The TOML configurations (config/train.toml, estimate.toml, device.toml):
 // each input is read as all three.
 
-#include "firmware_app/pipeline_config.h"
+#include "firmware_app/config/pipeline_config.h"
 #include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

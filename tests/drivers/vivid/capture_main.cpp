@@ -41,7 +41,7 @@
 
 #include "drivers/clock.h"
 #include "drivers/v4l2_source.h"
-#include "firmware_app/run_loop.h"
+#include "firmware_app/runtime/run_loop.h"
 
 using namespace ihf;
 
