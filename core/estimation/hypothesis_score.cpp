@@ -121,7 +121,7 @@ float boxAgreement(const Mesh &mesh, const Pose &pose, const CameraIntrinsics &w
 	// In double, then rounded to float: pow's last bit may differ between
 	// libm variants (amd64 picks an FMA one at run time), which the rounding
 	// hides, and the poses must be the same bits on every target
-	// (tests/estimation/test_golden_pose.cpp).
+	// (tests/estimation/golden_pose_test.cpp).
 	return static_cast<float>(
 		std::pow(static_cast<double>(inside * fillTerm), static_cast<double>(config.boxWeight)));
 }

@@ -13,13 +13,25 @@ std::string Range::text() const
 	const auto num = [](double v) {
 		return v == std::floor(v) && std::abs(v) < 1e15 ? std::to_string(static_cast<long long>(v)) : detail::showFloat(v);
 	};
+	// Appended in order: GCC 12 warns falsely (-Wstringop-overflow) on a
+	// literal prepended to a temporary string (its insert path).
+	std::string out;
 	if (lo == -inf && hi == inf)
-		return "";
-	if (hi == inf)
-		return (loOpen ? "> " : ">= ") + num(lo);
-	if (lo == -inf)
-		return "<= " + num(hi);
-	return (loOpen ? "(" : "[") + num(lo) + ", " + num(hi) + "]";
+		return out;
+	if (hi == inf) {
+		out += loOpen ? "> " : ">= ";
+		out += num(lo);
+	} else if (lo == -inf) {
+		out += "<= ";
+		out += num(hi);
+	} else {
+		out += loOpen ? "(" : "[";
+		out += num(lo);
+		out += ", ";
+		out += num(hi);
+		out += "]";
+	}
+	return out;
 }
 
 const KeyDesc *findKey(const Schema &schema, std::string_view table, std::string_view name)
