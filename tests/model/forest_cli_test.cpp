@@ -103,7 +103,7 @@ TEST_F(ForestCliTest, CorruptFileExitsOne)
 	test::writeBytes(old, b);
 	r = test::runIhf("forest info " + q(old));
 	EXPECT_EQ(r.exitCode, 1) << r.output;
-	EXPECT_NE(r.output.find("forest file version 1; this ihf reads 2: retrain with ihf train"),
+	EXPECT_NE(r.output.find("forest file version 1; this ihf reads 2 to 3: retrain with ihf train"),
 		  std::string::npos)
 		<< r.output;
 
