@@ -119,8 +119,10 @@ public:
 			     "\"reason\":\"%s\",",
 			     scene_, image_, obj_, e.found ? "true" : "false", e.reason);
 		writePose(e.pose);
-		std::fprintf(f_, ",\"score\":%.4f,\"confidence\":%.4f,\"margin\":%.4f,\"iterations\":%d,\"best_iteration\":%d}\n",
-			     e.score.score, e.confidence, e.margin, e.iterationsDone, e.bestIteration);
+		std::fprintf(f_, ",\"score\":%.4f,\"confidence\":%.4f,\"margin\":%.4f,\"iterations\":%d,\"best_iteration\":%d,"
+			     "\"ambiguous\":%s}\n",
+			     e.score.score, e.confidence, e.margin, e.iterationsDone, e.bestIteration,
+			     e.ambiguous ? "true" : "false");
 	}
 
 private:
@@ -284,6 +286,7 @@ int runEstimate(const EstimateOptions &o)
 	}
 	std::vector<ResultRow> rows;
 	std::vector<double> boxTimes;
+	std::vector<AmbiguousPose> ambiguous;
 	int skipped = 0, noPose = 0, done = 0;
 	bool warmedUp = false;
 	int streamScene = -1;
@@ -396,6 +399,8 @@ int runEstimate(const EstimateOptions &o)
 					continue;
 				}
 				imageRows.push_back(resultRow(sceneId, imId, d->categoryId, r.estimate));
+				if (r.estimate.ambiguous)
+					ambiguous.push_back({sceneId, imId, d->categoryId, r.estimate.ambiguityAxis});
 			}
 			for (auto &r : imageRows) {
 				r.time = o.noTime ? -1 : imageTime;
@@ -464,6 +469,8 @@ int runEstimate(const EstimateOptions &o)
 				continue;
 			}
 			imageRows.push_back(resultRow(sceneId, imId, d->categoryId, e));
+			if (e.ambiguous)
+				ambiguous.push_back({sceneId, imId, d->categoryId, e.ambiguityAxis});
 		}
 		estimator.endFrame();
 		for (auto &r : imageRows) {
@@ -507,7 +514,10 @@ int runEstimate(const EstimateOptions &o)
 		std::fprintf(stderr, "\n");
 	}
 	EstimateRunSummary summary{estimator.stats(), s.limits, s.estimator.frameBudgetMs, boxTimes,
-				   boxKindName(s.boxKind), s.estimator.score};
+				   boxKindName(s.boxKind), s.estimator.score, ambiguous};
+	if (!ambiguous.empty())
+		std::fprintf(stderr, "ihf estimate: %zu poses ambiguous (a turn the depth cannot tell apart; --stats-json lists them)\n",
+			     ambiguous.size());
 	printEstimateStats(stderr, summary);
 	if (!o.statsJson.empty()) {
 		if (auto st = writeFileAtomic(o.statsJson, estimateStatsJson(summary)); !st) {
