@@ -51,7 +51,6 @@ size_t SymmetryRivalSource::compareTurns(ProposalBox &box, const Pose &best, std
 		static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
 	const std::span<const Eigen::Vector3f> vertices = box.model.mesh().vertices;
 	size_t n = 0;
-	int symmetry = 0;
 	auto add = [&](const NearSymmetry &s, double deg) {
 		if (n >= turns.size())
 			return;
@@ -63,9 +62,6 @@ size_t SymmetryRivalSource::compareTurns(ProposalBox &box, const Pose &best, std
 		if (!(t.pose.t.z() > 0))
 			return;
 		t.axis = axis;
-		t.point = point;
-		t.symmetry = symmetry;
-		t.deg = deg;
 		t.distinct = meanTurnDistance(vertices, turn, point) > distinctMm;
 		t.evidence = {};
 		++n;
@@ -80,7 +76,6 @@ size_t SymmetryRivalSource::compareTurns(ProposalBox &box, const Pose &best, std
 			if (std::abs(s.turnDeg - 180.0f) > 1e-3f)
 				add(s, -s.turnDeg);
 		}
-		++symmetry;
 	}
 	// The best's render kept; each turn rendered on its thread's slot and
 	// compared with it.
@@ -98,40 +93,6 @@ size_t SymmetryRivalSource::compareTurns(ProposalBox &box, const Pose &best, std
 			t.evidence = comparePoseRenders(observed, reference, box.workspace.slot(slot).render, tolerance);
 	});
 	return n;
-}
-
-Pose SymmetryRivalSource::centredInArc(const ProposalBox &box, const Pose &best, std::span<const Turn> turns,
-				       const SymmetryTurnConfig &cfg)
-{
-	// The first continuous symmetry with an undecided distinct turn.
-	const Turn *first = nullptr;
-	for (const Turn &t : turns)
-		if (t.distinct && !decisive(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg) &&
-		    box.model.nearSymmetries()[static_cast<size_t>(t.symmetry)].continuous()) {
-			first = &t;
-			break;
-		}
-	if (!first)
-		return best;
-	// Its turns by angle, the undecided ones walked from 0 both ways.
-	auto undecidedAt = [&](double deg) {
-		for (const Turn &t : turns)
-			if (t.symmetry == first->symmetry && std::abs(std::remainder(t.deg - deg, 360.0)) < 1e-6)
-				return !decisive(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg) &&
-				       !decisive(t.evidence.forB, t.evidence.forA, t.evidence.informative, cfg);
-		return false;
-	};
-	const double step = 360.0 / std::max(2, static_cast<int>(std::lround(360.0 / std::max(cfg.stepDeg, 1.0f))));
-	double up = 0, down = 0;
-	while (up + step < 180.0 && undecidedAt(up + step))
-		up += step;
-	while (down + step < 180.0 && undecidedAt(-(down + step)))
-		down += step;
-	const double middle = 0.5 * (up - down);
-	if (std::abs(middle) < 1e-9)
-		return best;
-	const Eigen::Matrix3d turn = Eigen::AngleAxisd(middle * std::numbers::pi / 180.0, first->axis).toRotationMatrix();
-	return turnedAbout(best, turn, first->point);
 }
 
 Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best, std::span<const Hypothesis>)
@@ -173,14 +134,6 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 			verdict_.decisive = distinctTurns > 0 && beaten == distinctTurns;
 			if (winner)
 				verdict_.ambiguous = true; // still a turn ahead when the rounds ran out
-			if (verdict_.ambiguous) {
-				const Pose centred = centredInArc(box, current.pose, std::span<const Turn>(turns, n), cfg);
-				if (!centred.R.isApprox(current.pose.R) || !centred.t.isApprox(current.pose.t)) {
-					current.pose = centred;
-					current.score = box.scorer.score(centred);
-					verdict_.turned = true;
-				}
-			}
 			break;
 		}
 		// The preferred turn replaces the best, polished; then its own turns

@@ -10,8 +10,7 @@
 // best (then polished, and compared again with its own turns); the final
 // comparison says whether the best beat every distinct turn (decisive) or
 // whether the depth cannot tell it from one (the part hidden: ambiguous, with
-// that turn's axis; about a continuous axis the pose then moves to the
-// middle of the turns it cannot be told from). Not in the paper.
+// that turn's axis). Not in the paper.
 
 #include <span>
 
@@ -51,21 +50,12 @@ private:
 	struct Turn {
 		Pose pose;
 		Eigen::Vector3d axis;
-		Eigen::Vector3d point; // of the axis, model frame
-		int symmetry = 0;      // index into the model's near-symmetries
-		double deg = 0;        // the turn
 		bool distinct = false; // its model points lie more than the confidence's distinct share away
 		PartEvidence evidence; // A: the best, B: the turn
 	};
 	// best's turns (at most kMaxSymmetryTurns), each rendered and compared
 	// with best's render; returns how many.
 	static size_t compareTurns(ProposalBox &box, const Pose &best, std::span<Turn> turns);
-	// The ambiguous best of a continuous near-symmetry moved to the middle
-	// of the arc of turns the depth cannot tell from it (the handle
-	// hidden: the middle of where it can hide errs least); `best` itself
-	// when the arc is centred or the symmetry discrete.
-	static Pose centredInArc(const ProposalBox &box, const Pose &best, std::span<const Turn> turns,
-				 const SymmetryTurnConfig &cfg);
 
 	SymmetryVerdict verdict_;
 };
