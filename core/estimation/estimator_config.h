@@ -10,6 +10,7 @@
 #include "core/estimation/hypothesis_score.h"
 #include "core/estimation/icp_refiner.h"
 #include "core/estimation/rival_poses.h"
+#include "core/estimation/symmetry_turn_config.h"
 #include "core/pose/half_turns.h"
 #include "core/pose/view_search.h"
 
@@ -66,6 +67,11 @@ struct EstimatorConfig {
 	// the model's centre, scored, and the best turns polished too. Not in
 	// the paper.
 	HalfTurnConfig halfTurns;
+	// A nearly symmetric object's best pose compared with its turns about
+	// the model's near-symmetries on the pixels where they differ
+	// (symmetry_rivals.h); the pose says when the depth cannot tell them
+	// apart. Not in the paper.
+	SymmetryTurnConfig symmetryTurns;
 	// The pose's confidence: its score, less when a distinct rival scored
 	// nearly as well (rival_poses.h).
 	ConfidenceConfig confidence;

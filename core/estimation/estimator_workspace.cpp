@@ -69,7 +69,7 @@ bool EstimatorWorkspace::carveBox(A &arena, size_t pixels)
 	return arenaTake(arena, working_, pixels) && arenaTake(arena, render_, pixels * (others + 1)) &&
 	       arenaTake(arena, moreWorking_, pixels * others) && arenaTake(arena, moreClouds_, pixels * others) &&
 	       arenaTake(arena, cloud_, pixels) && arenaTake(arena, unit_, pixels) &&
-	       arenaTake(arena, normals_, pixels);
+	       arenaTake(arena, normals_, pixels) && arenaTake(arena, reference_, pixels);
 }
 
 size_t EstimatorWorkspace::arenaBytes(const EstimatorLimits &limits)
@@ -112,6 +112,7 @@ bool EstimatorWorkspace::beginBox(int w, int h)
 		return false;
 	observedView_ = ImageView<float>(observed_.data(), w, h, w);
 	workingView_ = ImageView<float>(working_.data(), w, h, w);
+	referenceView_ = ImageView<float>(reference_.data(), w, h, w);
 	return true;
 }
 
@@ -120,6 +121,8 @@ void EstimatorWorkspace::endBox()
 	working_ = render_ = moreWorking_ = {};
 	moreClouds_ = cloud_ = {};
 	unit_ = normals_ = {};
+	reference_ = {};
+	referenceView_ = {};
 }
 
 void EstimatorWorkspace::maskToRange(float nearMm, float farMm)

@@ -135,6 +135,9 @@ public:
 	std::span<CloudPoint> cloud() { return cloud_; }
 	std::span<Eigen::Vector3f> unit() { return unit_; }
 	std::span<Eigen::Vector3f> normals() { return normals_; }
+	// A render kept while others are made on the slots: the pose that
+	// rivals are compared with pixel by pixel (symmetry_rivals.h).
+	ImageView<float> reference() const { return referenceView_; }
 	// Thread `slot`'s renderer and buffers (0: the caller's).
 	WorkSlot slot(int slot);
 
@@ -168,11 +171,12 @@ private:
 	// Per box (sized to its window).
 	std::span<float> working_;
 	std::span<float> render_;          // one window per slot
+	std::span<float> reference_;
 	std::span<float> moreWorking_;     // the other slots' masks (threads - 1 windows)
 	std::span<CloudPoint> moreClouds_; // and clouds
 	std::span<CloudPoint> cloud_;
 	std::span<Eigen::Vector3f> unit_, normals_;
-	ImageView<float> observedView_, workingView_;
+	ImageView<float> observedView_, workingView_, referenceView_;
 };
 
 } // namespace ihf

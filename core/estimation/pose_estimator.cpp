@@ -149,6 +149,17 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	}
 	if (halfTurns_.enabled(proposals))
 		out.icpApplied |= takeBetter(best, halfTurns_.propose(proposals, best, polished.items()));
+	// A nearly symmetric object: the turn the depth prefers where the two
+	// differ wins, whatever the whole-silhouette scores.
+	symmetryTurns_.clear();
+	if (symmetryTurns_.enabled(proposals)) {
+		const Hypothesis chosen = symmetryTurns_.propose(proposals, best, polished.items());
+		if (chosen.valid && symmetryTurns_.verdict().turned) {
+			best = chosen;
+			out.icpApplied = true;
+		}
+		out.budgetStopped = out.budgetStopped || planner_.boxCut();
+	}
 
 	finish(proposals, crop.rotation, best, out);
 	return out;
@@ -357,7 +368,19 @@ void PoseEstimator::finish(const ProposalBox &box, const Eigen::Matrix3d &cropRo
 	const float rival = pool_.bestDistinctRival(best.pose, box.model.mesh().vertices, box.modelCentre,
 						    params.symmetric, distinctMm);
 	out.margin = std::max(0.0f, best.score.score - rival);
+	// A nearly symmetric object's rivals are its turns, which score alike
+	// whether or not the part that tells them apart is seen: the pixels
+	// where they differ decide. Beaten there by the best, they are no
+	// rivals; undecided, the pose is ambiguous.
+	const SymmetryVerdict &sym = symmetryTurns_.verdict();
+	if (sym.ran && sym.decisive)
+		out.margin = std::max(out.margin, box.config.confidence.fullMargin);
 	out.confidence = poseConfidence(best.score.score, out.margin, box.config.confidence);
+	if (sym.ran && sym.ambiguous) {
+		out.ambiguous = true;
+		out.ambiguityAxis = (out.pose.R * sym.axis).normalized();
+		out.confidence *= box.config.symmetryTurns.ambiguousConfidence;
+	}
 }
 
 Expected<HypothesisScore> PoseEstimator::scorePose(ImageView<const float> depth, const CameraIntrinsics &K,

@@ -17,7 +17,10 @@
 //  5. a projective ICP polish (hypothesis_polisher.h) of the best distinct
 //     hypotheses, then proposals at the polished best (a re-search, the
 //     half-turns); the best score wins;
-//  6. the confidence: the score less a close distinct rival's (rival_poses.h).
+//  6. a nearly symmetric object's best compared with its turns on the pixels
+//     where they differ (symmetry_rivals.h);
+//  7. the confidence: the score less a close distinct rival's (rival_poses.h),
+//     or as the turns' comparison found.
 // All frame-path memory is one arena allocated at construction and sized
 // from EstimatorLimits (estimator_workspace.h); estimate() does not
 // allocate. Boxes larger than the window limit are processed downsampled
@@ -48,6 +51,7 @@
 #include "core/estimation/icp_polisher.h"
 #include "core/estimation/proposal_source.h"
 #include "core/estimation/research_proposals.h"
+#include "core/estimation/symmetry_rivals.h"
 #include "core/estimation/view_proposals.h"
 #include "core/estimation/virtual_crop.h"
 #include "core/features/unit_cube_frame.h"
@@ -71,6 +75,12 @@ struct PoseEstimate {
 	HypothesisScore score;
 	bool budgetStopped = false; // refinement or a candidate search cut short by the frame budget
 	bool icpSkipped = false;    // ICP left out by the frame budget
+	// A nearly symmetric object whose pose the depth cannot tell from a
+	// turn of it about `ambiguityAxis` (camera frame, unit): the part that
+	// tells them apart is hidden (symmetry_rivals.h). Its confidence is
+	// scaled by EstimatorConfig::symmetryTurns.ambiguousConfidence.
+	bool ambiguous = false;
+	Eigen::Vector3d ambiguityAxis = Eigen::Vector3d::Zero();
 };
 
 // What the warm-up box cost on the estimator's clock. The initial
@@ -205,6 +215,7 @@ private:
 	ViewTemplateSource views_;
 	ResearchSource research_;
 	HalfTurnSource halfTurns_;
+	SymmetryRivalSource symmetryTurns_;
 	OpenSides openSides_; // of the current box: sides on the frame border
 };
 

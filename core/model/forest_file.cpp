@@ -166,14 +166,14 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const fs::path &path)
 	if (marker != kEndianMarker)
 		return corrupt("bad endianness marker " + hex32(marker));
 	sum.version = getU32(base + kOffVersion);
-	if (sum.version != kForestFileVersion)
+	if (sum.version < kOldestForestFileVersion || sum.version > kForestFileVersion)
 		return makeError(Errc::kUnsupported,
 				 name + ": forest file version " + std::to_string(sum.version) +
-					 "; this ihf reads " + std::to_string(kForestFileVersion) +
-					 ": retrain with ihf train");
+					 "; this ihf reads " + std::to_string(kOldestForestFileVersion) + " to " +
+					 std::to_string(kForestFileVersion) + ": retrain with ihf train");
 	if (getU32(base + kOffHeaderSize) != kHeaderSize)
 		return corrupt("header size " + std::to_string(getU32(base + kOffHeaderSize)) +
-			       ", version 2 has " + std::to_string(kHeaderSize));
+			       ", the format has " + std::to_string(kHeaderSize));
 	std::array<std::byte, kHeaderSize> header;
 	std::memcpy(header.data(), base, kHeaderSize);
 	sum.headerCrc = getU32(base + kOffHeaderCrc);
@@ -189,7 +189,7 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const fs::path &path)
 			       std::to_string(sum.fileSize) + " (trailing data)");
 	if (getU32(base + kOffEntrySize) != kEntrySize)
 		return corrupt("section entry size " + std::to_string(getU32(base + kOffEntrySize)) +
-			       ", version 2 has " + std::to_string(kEntrySize));
+			       ", the format has " + std::to_string(kEntrySize));
 	const uint64_t sectionCount = getU32(base + kOffSectionCount);
 	const uint64_t tableEnd = kHeaderSize + sectionCount * kEntrySize;
 	if (tableEnd > sum.fileSize)
@@ -339,6 +339,21 @@ Expected<std::unique_ptr<ObjectModel>> loadModelFile(const fs::path &path)
 			       " rotations, a vote indexes at most " +
 			       std::to_string(kMaxForestRotations));
 	sum.rotations = rotSec.elementCount;
+	if (const ForestFileSection *symSec = section(SectionType::kNearSymmetries)) {
+		if (sum.version < 3)
+			return corrupt("NEAR_SYMMETRIES in a version " + std::to_string(sum.version) + " file");
+		if (auto e = expectElement(*symSec, kNearSymmetryRecordSize))
+			return *e;
+		if (symSec->elementCount > kMaxNearSymmetries)
+			return corrupt("NEAR_SYMMETRIES: " + std::to_string(symSec->elementCount) + " records, at most " +
+				       std::to_string(kMaxNearSymmetries));
+		for (uint32_t i = 0; i < symSec->elementCount; ++i) {
+			const NearSymmetry ns = decodeNearSymmetry(base + symSec->offset + kNearSymmetryRecordSize * i);
+			if (auto bad = checkNearSymmetry(ns))
+				return corrupt("NEAR_SYMMETRIES: record " + std::to_string(i) + ": " + *bad);
+			sum.nearSymmetries.push_back(ns);
+		}
+	}
 	sum.vertices = mesh.vertices.size();
 	sum.faces = mesh.faces.size();
 	sum.normals = normSec != nullptr;

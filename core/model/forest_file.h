@@ -5,10 +5,10 @@
 // forest) in a versioned, checksummed container that inference maps and uses
 // in place. All integers and floats are little-endian.
 //
-// Layout, version 2:
+// Layout, version 3 (version 2 is the same without NEAR_SYMMETRIES; both load):
 //   header, 64 bytes:
 //     0  char[8] magic "IHFOREST"
-//     8  u32 version (2)
+//     8  u32 version (2, or 3 with NEAR_SYMMETRIES)
 //     12 u32 endianness marker 0x01020304 (bytes 04 03 02 01)
 //     16 u32 header size (64)
 //     20 u32 section count
@@ -33,6 +33,10 @@
 //                    so ihf train leaves them out)
 //     ROTATIONS      the forest's distinct vote rotations (PackedRotation,
 //                    int16 x, y, z, w * 32767; at most 65536)
+//     NEAR_SYMMETRIES (optional, version 3) the object's near-symmetries
+//                    (near_symmetry.h), 32 bytes each: float32 axis[3] (unit),
+//                    point[3] (mm), turn (deg, 0: continuous, else in (0, 360)),
+//                    differing share (in [0, 1]); at most kMaxNearSymmetries
 //     per tree t:  NODES (TreeNode, 32 bytes),
 //                  TEMPLATES float32 encoding: one element of dims float32
 //                            per split template; uint8 encoding: element
@@ -50,8 +54,8 @@
 // it ends; every vote's rotation inside ROTATIONS; depth <= kMaxTreeDepth;
 // face indices; dims == hocpDimension), so a tree walk needs no checks and
 // visits at most kMaxTreeDepth nodes. Big-endian hosts are refused (the
-// payload is used in place). Files of another version are refused with a
-// message naming both versions.
+// payload is used in place). Files of another version than 2 or 3 are
+// refused with a message naming the versions.
 
 #include <cstdint>
 #include <filesystem>
@@ -65,7 +69,9 @@
 
 namespace ihf {
 
-inline constexpr uint32_t kForestFileVersion = 2;
+inline constexpr uint32_t kForestFileVersion = 3;
+inline constexpr uint32_t kOldestForestFileVersion = 2; // still read
+inline constexpr uint32_t kMaxNearSymmetries = 16;
 inline constexpr int kMaxTreeDepth = 64; // nodes on the longest root-to-leaf path
 
 enum class SectionType : uint32_t {
@@ -75,6 +81,7 @@ enum class SectionType : uint32_t {
 	kMeshFaces = 4,
 	kMeshNormals = 5,
 	kRotations = 6,
+	kNearSymmetries = 7,
 	kNodes = 16,
 	kTemplates = 17,
 	kVotes = 18,
@@ -118,6 +125,7 @@ struct ForestFileSummary {
 	size_t faces = 0;
 	bool normals = false;
 	uint32_t rotations = 0;
+	std::vector<NearSymmetry> nearSymmetries;
 	ModelParams params;
 	std::string paramsJson; // the PARAMS section as stored
 };
@@ -134,6 +142,7 @@ public:
 	const ModelParams &params() const override { return summary_.params; }
 	const Mesh &mesh() const override { return mesh_; }
 	const ForestView &forest() const override { return view_; }
+	std::span<const NearSymmetry> nearSymmetries() const override { return summary_.nearSymmetries; }
 
 	const ForestFileSummary &summary() const { return summary_; }
 	// The mapped file bytes.
@@ -152,12 +161,14 @@ private:
 };
 
 // Writes the file atomically (temporary file in the same folder, renamed into
-// place; nothing is left behind on failure). The folder must exist. The
+// place; nothing is left behind on failure), as version 2 when there are no
+// near-symmetries (version 2 readers read it too), else version 3. The folder must exist. The
 // forest is checked with the same rules the loader applies, so a file that
 // saves also loads. A tree's template count is one past the largest
 // templateIndex of its split nodes.
+// nearSymmetries: at most kMaxNearSymmetries, each valid (near_symmetry.h).
 Status saveModelFile(const std::filesystem::path &path, const ModelParams &params, const Mesh &mesh,
-		     const ForestView &forest);
+		     const ForestView &forest, std::span<const NearSymmetry> nearSymmetries = {});
 
 // Maps and validates the file; on any failure an Error naming the file and
 // the fault, and nothing stays mapped. The result is a MappedObjectModel.
@@ -168,7 +179,7 @@ Expected<ForestFileSummary> summariseModelFile(const std::filesystem::path &path
 
 // Human-readable summary: header, section table, bytes by part of the model
 // (mesh, nodes, templates, votes, the rest), forest and per-tree statistics,
-// mesh, parameters.
+// mesh, near-symmetries, parameters.
 std::string formatForestFileSummary(const ForestFileSummary &summary);
 
 } // namespace ihf

@@ -19,6 +19,7 @@ const char *sectionTypeName(SectionType type)
 	case SectionType::kMeshFaces: return "MESH_FACES";
 	case SectionType::kMeshNormals: return "MESH_NORMALS";
 	case SectionType::kRotations: return "ROTATIONS";
+	case SectionType::kNearSymmetries: return "NEAR_SYMMETRIES";
 	case SectionType::kTemplateOffsets: return "TEMPLATE_OFFSETS";
 	case SectionType::kNodes: return "NODES";
 	case SectionType::kTemplates: return "TEMPLATES";
@@ -28,6 +29,56 @@ const char *sectionTypeName(SectionType type)
 }
 
 namespace forestfile {
+
+namespace {
+
+void putF32(std::byte *p, float v)
+{
+	putU32(p, std::bit_cast<uint32_t>(v));
+}
+
+float getF32(const std::byte *p)
+{
+	return std::bit_cast<float>(getU32(p));
+}
+
+} // namespace
+
+void encodeNearSymmetry(const NearSymmetry &s, std::byte *out)
+{
+	for (int i = 0; i < 3; ++i) {
+		putF32(out + 4 * i, s.axis(i));
+		putF32(out + 12 + 4 * i, s.point(i));
+	}
+	putF32(out + 24, s.turnDeg);
+	putF32(out + 28, s.differingShare);
+}
+
+NearSymmetry decodeNearSymmetry(const std::byte *in)
+{
+	NearSymmetry s;
+	for (int i = 0; i < 3; ++i) {
+		s.axis(i) = getF32(in + 4 * i);
+		s.point(i) = getF32(in + 12 + 4 * i);
+	}
+	s.turnDeg = getF32(in + 24);
+	s.differingShare = getF32(in + 28);
+	return s;
+}
+
+std::optional<std::string> checkNearSymmetry(const NearSymmetry &s)
+{
+	if (!s.axis.allFinite() || !s.point.allFinite() || !std::isfinite(s.turnDeg) ||
+	    !std::isfinite(s.differingShare))
+		return "a number that is not finite";
+	if (std::abs(s.axis.norm() - 1.0f) > 1e-3f)
+		return "axis of length " + std::to_string(s.axis.norm()) + ", not 1";
+	if (s.turnDeg < 0 || s.turnDeg >= 360)
+		return "turn " + std::to_string(s.turnDeg) + " deg outside [0, 360)";
+	if (s.differingShare < 0 || s.differingShare > 1)
+		return "differing share " + std::to_string(s.differingShare) + " outside [0, 1]";
+	return std::nullopt;
+}
 
 uint32_t crc32Of(const void *data, uint64_t size)
 {

@@ -23,6 +23,7 @@ inline constexpr uint32_t kHeaderSize = 64;
 inline constexpr uint32_t kEntrySize = 48;
 inline constexpr uint64_t kAlignment = 64;
 inline constexpr uint32_t kForestRecordSize = 32;
+inline constexpr uint32_t kNearSymmetryRecordSize = 32;
 // Meshes of at most this many vertices store their faces as u16 x 3.
 inline constexpr uint64_t kMaxShortFaceVertices = uint64_t{1} << 16;
 
@@ -89,6 +90,14 @@ uint64_t templateBytes(uint64_t dims, TemplateEncoding encoding);
 std::optional<std::string> checkSparseTemplates(const uint8_t *data, uint64_t size,
 						std::span<const uint32_t> offsets, int dims,
 						uint64_t &bins);
+
+// One NEAR_SYMMETRIES record (forest_file.h) written and read.
+void encodeNearSymmetry(const NearSymmetry &s, std::byte *out);
+NearSymmetry decodeNearSymmetry(const std::byte *in);
+// What is wrong with a near-symmetry (an axis not of unit length, a turn
+// outside [0, 360), a share outside [0, 1], a number not finite), if
+// anything.
+std::optional<std::string> checkNearSymmetry(const NearSymmetry &s);
 
 // Checks that every vote's rotation index is below rotationCount; returns
 // what is wrong, starting with "vote V: ".

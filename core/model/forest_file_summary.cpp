@@ -109,6 +109,24 @@ std::string formatForestFileSummary(const ForestFileSummary &s)
 
 	appendf(out, "mesh: %zu vertices, %zu faces, %s\n", s.vertices, s.faces,
 		s.normals ? "with normals" : "no normals");
+	if (s.nearSymmetries.empty()) {
+		out += "near-symmetries: none stored\n";
+	} else {
+		appendf(out, "near-symmetries: %zu (turns that move only this share of the surface)\n",
+			s.nearSymmetries.size());
+		for (const NearSymmetry &ns : s.nearSymmetries) {
+			char turn[32];
+			if (ns.continuous())
+				std::snprintf(turn, sizeof(turn), "any turn");
+			else
+				std::snprintf(turn, sizeof(turn), "turn %.0f deg", static_cast<double>(ns.turnDeg));
+			appendf(out, "  axis (%.3f, %.3f, %.3f) through (%.1f, %.1f, %.1f) mm, %s, differing %.1f %%\n",
+				static_cast<double>(ns.axis.x()), static_cast<double>(ns.axis.y()),
+				static_cast<double>(ns.axis.z()), static_cast<double>(ns.point.x()),
+				static_cast<double>(ns.point.y()), static_cast<double>(ns.point.z()), turn,
+				100.0 * static_cast<double>(ns.differingShare));
+		}
+	}
 	out += "params:\n";
 	out += s.paramsJson;
 	if (!s.paramsJson.empty() && s.paramsJson.back() != '\n')

@@ -37,7 +37,7 @@ Error fault(const fs::path &path, const std::string &what)
 } // namespace
 
 Status saveModelFile(const fs::path &path, const ModelParams &params, const Mesh &mesh,
-		     const ForestView &forest)
+		     const ForestView &forest, std::span<const NearSymmetry> nearSymmetries)
 {
 	if constexpr (!kHostLittleEndian)
 		return makeError(Errc::kUnsupported,
@@ -123,6 +123,18 @@ Status saveModelFile(const fs::path &path, const ModelParams &params, const Mesh
 					   std::to_string(kMaxForestRotations));
 	add(SectionType::kRotations, 0, forest.rotations.data(), sizeof(PackedRotation),
 	    forest.rotations.size());
+	if (nearSymmetries.size() > kMaxNearSymmetries)
+		return fault(path, std::to_string(nearSymmetries.size()) + " near-symmetries, at most " +
+					   std::to_string(kMaxNearSymmetries));
+	std::vector<std::byte> symmetryRecords(kNearSymmetryRecordSize * nearSymmetries.size());
+	for (size_t i = 0; i < nearSymmetries.size(); ++i) {
+		if (auto bad = checkNearSymmetry(nearSymmetries[i]))
+			return fault(path, "near-symmetry " + std::to_string(i) + ": " + *bad);
+		encodeNearSymmetry(nearSymmetries[i], symmetryRecords.data() + kNearSymmetryRecordSize * i);
+	}
+	if (!nearSymmetries.empty())
+		add(SectionType::kNearSymmetries, 0, symmetryRecords.data(), kNearSymmetryRecordSize,
+		    nearSymmetries.size());
 
 	const uint64_t perTemplate = templateBytes(forest.dims, forest.encoding);
 	if (perTemplate > kMaxCount)
@@ -198,7 +210,9 @@ Status saveModelFile(const fs::path &path, const ModelParams &params, const Mesh
 
 	std::array<std::byte, kHeaderSize> header{};
 	std::memcpy(header.data(), kMagic, sizeof(kMagic));
-	putU32(header.data() + kOffVersion, kForestFileVersion);
+	// The oldest version that holds the file: without near-symmetries a
+	// version 2 reader reads it too.
+	putU32(header.data() + kOffVersion, nearSymmetries.empty() ? kOldestForestFileVersion : kForestFileVersion);
 	putU32(header.data() + kOffEndian, kEndianMarker);
 	putU32(header.data() + kOffHeaderSize, kHeaderSize);
 	putU32(header.data() + kOffSectionCount, static_cast<uint32_t>(out.size()));

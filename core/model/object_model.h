@@ -7,12 +7,14 @@
 // into the mapped file.
 
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "core/forest/forest_view.h"
 #include "core/geometry/mesh.h"
 #include "core/geometry/rotation.h"
 #include "core/model/model_params.h"
+#include "core/model/near_symmetry.h"
 #include "core/pose/view_templates.h"
 
 namespace ihf {
@@ -24,6 +26,9 @@ public:
 	virtual const ModelParams &params() const = 0;
 	virtual const Mesh &mesh() const = 0;
 	virtual const ForestView &forest() const = 0;
+	// The turns that map most of the object onto itself (near_symmetry.h):
+	// from the forest file, or set by training; none otherwise.
+	virtual std::span<const NearSymmetry> nearSymmetries() const { return {}; }
 
 	// Sparse view templates for the rotation search (view_search.h): from
 	// the forest file, or attached after loading one written without them;
@@ -78,9 +83,12 @@ public:
 	const ModelParams &params() const override { return params_; }
 	const Mesh &mesh() const override { return mesh_; }
 	const ForestView &forest() const override { return storage_.view(); }
+	std::span<const NearSymmetry> nearSymmetries() const override { return nearSymmetries_; }
 	const ForestStorage &storage() const { return storage_; }
+	void setNearSymmetries(std::vector<NearSymmetry> s) { nearSymmetries_ = std::move(s); }
 
 private:
+	std::vector<NearSymmetry> nearSymmetries_;
 	ModelParams params_;
 	Mesh mesh_;
 	ForestStorage storage_;

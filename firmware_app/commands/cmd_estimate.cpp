@@ -114,10 +114,13 @@ public:
 			return {};
 		}
 		imageRows_.push_back(resultRow(sceneId_, imId_, box.objId, r.estimate));
+		if (r.estimate.ambiguous)
+			ambiguous.push_back({sceneId_, imId_, box.objId, r.estimate.ambiguityAxis});
 		return {};
 	}
 
 	std::vector<ResultRow> rows;
+	std::vector<AmbiguousPose> ambiguous;
 	std::vector<double> boxTimes, trackTimes, detectTimes;
 	double imageTime = 0;
 	int skipped = 0, noPose = 0, done = 0;
@@ -366,7 +369,10 @@ int runEstimate(const EstimateOptions &o)
 	if (const StreamEstimator *tracker = poses.tracker())
 		printTracking(tracker->stats(), tally, frameTimes);
 	EstimateRunSummary summary{poses.estimator().stats(), s.limits, s.estimator.frameBudgetMs, tally.boxTimes,
-				   boxKindName(s.boxKind), s.estimator.score};
+				   boxKindName(s.boxKind), s.estimator.score, tally.ambiguous};
+	if (!tally.ambiguous.empty())
+		std::fprintf(stderr, "ihf estimate: %zu poses ambiguous (a turn the depth cannot tell apart; --stats-json lists them)\n",
+			     tally.ambiguous.size());
 	printEstimateStats(stderr, summary);
 	if (!o.statsJson.empty()) {
 		if (auto st = writeFileAtomic(o.statsJson, estimateStatsJson(summary)); !st) {

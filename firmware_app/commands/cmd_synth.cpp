@@ -11,7 +11,10 @@
 #include <string>
 #include <vector>
 
+#include "core/dataset/bop_io.h"
+#include "core/geometry/ply_loader.h"
 #include "core/synth/dataset_staging.h"
+#include "core/synth/household_objects.h"
 #include "core/synth/sequence_dataset.h"
 #include "core/synth/synth_dataset.h"
 #include "firmware_app/commands/bop_recording.h"
@@ -39,6 +42,10 @@ struct SynthOptions {
 	int previewCount = 4;
 	bool overwrite = false;
 	bool quiet = false;
+	// --make-object
+	std::string makeObject;
+	int objectId = 0;
+	bool withoutPart = false;
 	// --sequence
 	bool sequence = false;
 	int sequences = 1;
@@ -92,8 +99,66 @@ void printSummary(const SynthSummary &s)
 
 int runSequenceCommand(const SynthOptions &o);
 
+// --make-object: writes MODELS/obj_NNNNNN.ply and its models_info.json entry
+// (the file made or updated; other entries kept).
+int runMakeObjectCommand(const SynthOptions &o)
+{
+	if (o.models.empty() || o.objectId <= 0)
+		return usage("--make-object needs --models DIR and --id N (N > 0)");
+	for (const std::string &flag : o.given)
+		if (flag != "--make-object" && flag != "--models" && flag != "--id" && flag != "--without-part" &&
+		    flag != "--quiet")
+			return usage(flag + ": not an option of --make-object");
+	const std::optional<HouseholdObject> object = householdObjectNamed(o.makeObject);
+	if (!object)
+		return usage("--make-object '" + o.makeObject + "': expected cup, camera or bottle");
+	const Mesh mesh = makeHouseholdObject(*object, !o.withoutPart);
+	const std::filesystem::path dir = o.models;
+	std::error_code ec;
+	std::filesystem::create_directories(dir, ec);
+	if (ec) {
+		std::fprintf(stderr, "ihf synth: %s: %s\n", dir.c_str(), ec.message().c_str());
+		return kExitFailure;
+	}
+	const std::filesystem::path ply = dir / ("obj_" + sixDigits(o.objectId) + ".ply");
+	const std::filesystem::path infoFile = dir / "models_info.json";
+	std::map<int, ModelInfo> info;
+	if (std::filesystem::exists(infoFile)) {
+		auto read = readModelsInfo(infoFile);
+		if (!read) {
+			std::fprintf(stderr, "ihf synth: %s\n", read.error().message.c_str());
+			return kExitFailure;
+		}
+		info = std::move(*read);
+	}
+	const Aabb box = boundingBox(mesh);
+	ModelInfo entry;
+	entry.objId = o.objectId;
+	entry.diameter = meshDiameter(mesh);
+	entry.min = box.min.cast<double>();
+	entry.size = box.size().cast<double>();
+	info[o.objectId] = entry;
+	if (Status s = savePly(ply, mesh); !s) {
+		std::fprintf(stderr, "ihf synth: %s\n", s.error().message.c_str());
+		return kExitFailure;
+	}
+	if (Status s = writeModelsInfo(infoFile, info); !s) {
+		std::fprintf(stderr, "ihf synth: %s\n", s.error().message.c_str());
+		return kExitFailure;
+	}
+	if (!o.quiet)
+		std::fprintf(stderr, "synth: %s -> %s (%zu vertices, %zu faces, diameter %.1f mm)\n",
+			     o.makeObject.c_str(), ply.c_str(), mesh.vertices.size(), mesh.faces.size(),
+			     entry.diameter);
+	return kExitOk;
+}
+
 int runSynthCommand(const SynthOptions &o)
 {
+	if (!o.makeObject.empty())
+		return runMakeObjectCommand(o);
+	if (o.objects.empty() || o.out.empty() || o.models.empty())
+		return usage("--models, --objects and --out are required");
 	if (o.sequence)
 		return runSequenceCommand(o);
 	for (const char *flag : kSequenceOnly)
@@ -280,12 +345,15 @@ void addSynthCommand(CLI::App &root, Action &action)
 	cmd->add_flag("--sequence", opts->sequence,
 		      "Make 30 Hz depth sequences instead: a table with several targets, a moving camera, "
 		      "objects moved, taken away or put down; one scene per sequence, and a recording each");
-	cmd->add_option("--models", opts->models, "BOP models folder (obj_NNNNNN.ply + models_info.json)")
-		->required();
-	cmd->add_option("--objects", opts->objects, "Target object ids, comma separated (e.g. 1,5,6)")
-		->required();
-	cmd->add_option("--out", opts->out, "Output dataset folder (must not exist unless --overwrite)")
-		->required();
+	cmd->add_option("--models", opts->models, "BOP models folder (obj_NNNNNN.ply + models_info.json)");
+	cmd->add_option("--objects", opts->objects, "Target object ids, comma separated (e.g. 1,5,6)");
+	cmd->add_option("--out", opts->out, "Output dataset folder (must not exist unless --overwrite)");
+	cmd->add_option("--make-object", opts->makeObject,
+			"Write a procedural object instead (cup, camera or bottle: nearly symmetric, told apart by a "
+			"handle, a lens, a pump nozzle) as --models/obj_<--id>.ply with its models_info.json entry");
+	cmd->add_option("--id", opts->objectId, "--make-object: the object's id");
+	cmd->add_flag("--without-part", opts->withoutPart,
+		      "--make-object: the body alone, without the small part (to find where the part shows)");
 	cmd->add_option("--images", opts->images, "Images per object")->capture_default_str();
 	cmd->add_option("--seed", opts->seed, "Random seed (same seed, same files)")->capture_default_str();
 	cmd->add_option("--distance", opts->distance,

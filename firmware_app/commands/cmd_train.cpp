@@ -3,6 +3,7 @@
 // and grows the Hough forest; writes a forest file.
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include "core/dataset/bop_dataset.h"
@@ -11,6 +12,7 @@
 #include "core/geometry/mesh_import.h"
 #include "core/model/forest_file.h"
 #include "core/training/hocp_split_metric.h"
+#include "core/training/near_symmetry_finder.h"
 #include "core/training/training_set.h"
 #include "firmware_app/commands/command.h"
 #include "firmware_app/config/pipeline_config.h"
@@ -119,7 +121,15 @@ int runTrain(const TrainOptions &o)
 	// Nothing after training reads vertex normals (rendering and the view
 	// templates use the faces): the file leaves them out.
 	mesh->normals.clear();
-	if (auto st = saveModelFile(o.out, s.params, *mesh, storage.view()); !st) {
+	const std::vector<NearSymmetry> nearSymmetries = findNearSymmetries(*mesh);
+	for (const NearSymmetry &ns : nearSymmetries) {
+		const std::string turn =
+			ns.continuous() ? std::string("any turn") : "a turn by " + std::to_string(std::lround(ns.turnDeg)) + " deg";
+		std::fprintf(stderr, "ihf train: near-symmetry: %s about (%.3f, %.3f, %.3f), %.1f %% of the surface differs\n",
+			     turn.c_str(), static_cast<double>(ns.axis.x()), static_cast<double>(ns.axis.y()),
+			     static_cast<double>(ns.axis.z()), 100.0 * static_cast<double>(ns.differingShare));
+	}
+	if (auto st = saveModelFile(o.out, s.params, *mesh, storage.view(), nearSymmetries); !st) {
 		std::fprintf(stderr, "ihf train: %s\n", st.error().message.c_str());
 		return kExitFailure;
 	}

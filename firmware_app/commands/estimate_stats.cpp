@@ -121,6 +121,13 @@ std::string estimateStatsJson(const EstimateRunSummary &sum)
 		      {"occluded_weight", sum.score.occludedWeight},
 		      {"box_weight", sum.score.boxWeight},
 		      {"box_occluded_side", sum.score.boxOccludedSide}};
+	nlohmann::ordered_json ambiguous = nlohmann::ordered_json::array();
+	for (const AmbiguousPose &a : sum.ambiguous)
+		ambiguous.push_back({{"scene_id", a.sceneId},
+				     {"im_id", a.imId},
+				     {"obj_id", a.objId},
+				     {"axis", {a.axis.x(), a.axis.y(), a.axis.z()}}});
+	j["ambiguous_poses"] = ambiguous;
 	j["arena"] = {{"capacity_bytes", s.arenaCapacity},
 		      {"persistent_bytes", s.arenaPersistent},
 		      {"used_bytes", s.arenaHighWater}};

@@ -13,6 +13,15 @@
 
 namespace ihf::app {
 
+// A box whose pose the depth could not tell from a turn of it
+// (PoseEstimate::ambiguous).
+struct AmbiguousPose {
+	int sceneId = 0;
+	int imId = 0;
+	int objId = 0;
+	Eigen::Vector3d axis = Eigen::Vector3d::Zero(); // camera frame
+};
+
 struct EstimateRunSummary {
 	EstimatorStats stats;
 	EstimatorLimits limits;
@@ -22,6 +31,7 @@ struct EstimateRunSummary {
 	// weights that follow from it.
 	const char *boxKind = "amodal";
 	ScoreConfig score;
+	std::vector<AmbiguousPose> ambiguous;
 };
 
 void printEstimateStats(std::FILE *out, const EstimateRunSummary &summary);

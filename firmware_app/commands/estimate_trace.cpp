@@ -57,8 +57,10 @@ void EstimateTrace::end(ImageView<const float>, const CameraIntrinsics &, const 
 		     "\"reason\":\"%s\",",
 		     sceneId_, image_, obj_, e.found ? "true" : "false", e.reason);
 	writePose(e.pose);
-	std::fprintf(f_, ",\"score\":%.4f,\"confidence\":%.4f,\"margin\":%.4f,\"iterations\":%d,\"best_iteration\":%d}\n",
-		     e.score.score, e.confidence, e.margin, e.iterationsDone, e.bestIteration);
+	std::fprintf(f_, ",\"score\":%.4f,\"confidence\":%.4f,\"margin\":%.4f,\"iterations\":%d,\"best_iteration\":%d,"
+		     "\"ambiguous\":%s}\n",
+		     e.score.score, e.confidence, e.margin, e.iterationsDone, e.bestIteration,
+		     e.ambiguous ? "true" : "false");
 }
 
 void EstimateTrace::noTruth(const std::string &why)

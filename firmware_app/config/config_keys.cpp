@@ -180,6 +180,10 @@ const KeyDesc kEstimateKeys[] = {
 	E("half_turns", "box_axes", estimator.halfTurns.boxAxes, kAny, X,
 	  "also the exact turns about the model's own x, y and z axes"),
 
+	E("symmetry_turns", "enabled", estimator.symmetryTurns.enabled, kAny, U,
+	  "a nearly symmetric object's pose compared with its turns about the axes training found, on the pixels "
+	  "where they differ; the pose is flagged ambiguous when the depth cannot tell them apart (not in the paper)"),
+
 	E("confidence", "distinct_share", estimator.confidence.distinctShare, (Range{0, 1, true}), X,
 	  "a rival is a different pose when its model points lie this far on average, in diameters"),
 	E("confidence", "full_margin", estimator.confidence.fullMargin, within(0, 1), U,

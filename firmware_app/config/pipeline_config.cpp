@@ -68,6 +68,7 @@ void applyPapersMethod(EstimatorConfig &e)
 	e.icp = false;
 	e.views.inplane = 0;
 	e.halfTurns.candidates = 0;
+	e.symmetryTurns.enabled = false;
 	iterationsAsRegistration(e);
 }
 

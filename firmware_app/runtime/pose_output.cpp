@@ -168,6 +168,15 @@ Status PoseOutput::writePose(const PoseLine &p)
 	b.text(",\"best_iteration\":");
 	b.number(e.bestIteration);
 	b.text(e.icpApplied ? ",\"icp\":true" : ",\"icp\":false");
+	if (e.ambiguous) {
+		b.text(",\"ambiguous\":true,\"ambiguity_axis\":[");
+		for (int i = 0; i < 3; ++i) {
+			if (i)
+				b.text(",");
+			b.number(e.ambiguityAxis(i));
+		}
+		b.text("]");
+	}
 	b.text(",\"latency_ms\":");
 	b.number(std::round(p.latencyMs * 1000) / 1000);
 	b.text(",\"estimate_ms\":");

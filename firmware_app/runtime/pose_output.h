@@ -21,6 +21,9 @@ class BoxFeed;
 
 // One pose as written: {"frame","obj_id","R","t","confidence","score",
 // "margin","iterations","best_iteration","icp","latency_ms","estimate_ms"},
+// "ambiguous": true and "ambiguity_axis" (camera frame) when the depth
+// cannot tell the pose from a turn of it about that axis (a nearly
+// symmetric object whose telling part is hidden; absent otherwise),
 // and with tracking "mode" ("track" or "detect") and "track_id";
 // numbers in their shortest exact form. confidence = score scaled by the
 // margin over the best different pose (rival_poses.h): a low confidence

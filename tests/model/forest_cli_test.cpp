@@ -103,13 +103,31 @@ TEST_F(ForestCliTest, CorruptFileExitsOne)
 	test::writeBytes(old, b);
 	r = test::runIhf("forest info " + q(old));
 	EXPECT_EQ(r.exitCode, 1) << r.output;
-	EXPECT_NE(r.output.find("forest file version 1; this ihf reads 2: retrain with ihf train"),
+	EXPECT_NE(r.output.find("forest file version 1; this ihf reads 2 to 3: retrain with ihf train"),
 		  std::string::npos)
 		<< r.output;
 
 	r = test::runIhf("forest info " + q(dir_ / "missing.ihf"));
 	EXPECT_EQ(r.exitCode, 1) << r.output;
 	EXPECT_NE(r.output.find("missing.ihf: file not found"), std::string::npos) << r.output;
+}
+
+// A forest trained without near-symmetries gains them: the fixture's mesh
+// is a box, which every half-turn about its axes maps onto itself.
+TEST_F(ForestCliTest, SymmetriesAddsTheNearSymmetriesOfTheMesh)
+{
+	const fs::path out = dir_ / "with_symmetries.ihf";
+	auto r = test::runIhf("forest symmetries " + q(file_) + " --out " + q(out));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	auto info = test::runIhf("forest info " + q(out));
+	ASSERT_EQ(info.exitCode, 0) << info.output;
+	EXPECT_NE(info.output.find("format version 3"), std::string::npos) << info.output;
+	EXPECT_NE(info.output.find("NEAR_SYMMETRIES"), std::string::npos) << info.output;
+	EXPECT_NE(info.output.find("turn 180 deg, differing 0."), std::string::npos) << info.output; // under 1 %
+	// The rest of the forest is the input's.
+	auto before = test::runIhf("forest info " + q(file_));
+	EXPECT_NE(before.output.find("near-symmetries: none stored"), std::string::npos) << before.output;
+	EXPECT_EQ(test::runIhf("forest symmetries " + q(dir_ / "missing.ihf") + " --out " + q(out)).exitCode, 1);
 }
 
 TEST_F(ForestCliTest, UsageErrorsExitTwo)

@@ -442,7 +442,7 @@ TEST_F(ForestFileTest, WrongMagicVersionAndByteOrder)
 	test::resealCrcs(b);
 	e = loadErrorOf(b);
 	EXPECT_EQ(e.code, Errc::kUnsupported);
-	EXPECT_NE(e.message.find("forest file version 1; this ihf reads 2: retrain with ihf train"),
+	EXPECT_NE(e.message.find("forest file version 1; this ihf reads 2 to 3: retrain with ihf train"),
 		  std::string::npos)
 		<< e.message;
 
@@ -780,6 +780,131 @@ TEST_F(ForestFileTest, OverwriteReplacesAtomically)
 	EXPECT_EQ((*oldModel)->forest().trees.size(), 3u);
 	EXPECT_EQ((*oldModel)->forest().encoding, TemplateEncoding::kFloat32);
 	expectRoundTrip(forest_, TemplateEncoding::kUint8, **newModel, params_, mesh_);
+}
+
+} // namespace
+} // namespace ihf
+
+namespace ihf {
+namespace {
+
+NearSymmetry nearSymmetryFixture(float turnDeg, float share)
+{
+	NearSymmetry s;
+	s.axis = Eigen::Vector3f(0.0f, 0.6f, 0.8f);
+	s.point = Eigen::Vector3f(1.5f, -2.25f, 40.0f);
+	s.turnDeg = turnDeg;
+	s.differingShare = share;
+	return s;
+}
+
+class NearSymmetryFileTest : public ::testing::Test
+{
+protected:
+	void SetUp() override
+	{
+		dir_ = test::freshTempDir(std::string("model_sym_") +
+					  ::testing::UnitTest::GetInstance()->current_test_info()->name());
+		params_ = test::makeParams();
+		mesh_ = test::makeMesh();
+		forest_ = test::makeForest(2, 5, 7);
+	}
+	Status save(const fs::path &file, std::span<const NearSymmetry> symmetries)
+	{
+		ForestStorage storage(forest_, TemplateEncoding::kUint8);
+		return saveModelFile(file, params_, mesh_, storage.view(), symmetries);
+	}
+
+	fs::path dir_;
+	ModelParams params_;
+	Mesh mesh_;
+	HoughForest forest_;
+};
+
+// Stored as version 3 with a NEAR_SYMMETRIES section of 32-byte records,
+// read back exactly and shown by the summary.
+TEST_F(NearSymmetryFileTest, RoundTripAsVersion3)
+{
+	const NearSymmetry stored[] = {nearSymmetryFixture(0.0f, 0.08f), nearSymmetryFixture(180.0f, 0.21f)};
+	const fs::path file = dir_ / "sym.ihf";
+	ASSERT_TRUE(save(file, stored).ok());
+	const test::Bytes b = test::readBytes(file);
+	EXPECT_EQ(test::rd32(b, 8), 3u);
+	const auto entries = test::rawEntries(b);
+	const auto *sec = test::findEntry(entries, 7, 0);
+	ASSERT_TRUE(sec);
+	EXPECT_EQ(sec->elementSize, 32u);
+	EXPECT_EQ(sec->elementCount, 2u);
+
+	auto model = loadModelFile(file);
+	ASSERT_TRUE(model.ok()) << model.error().message;
+	const auto got = (*model)->nearSymmetries();
+	ASSERT_EQ(got.size(), 2u);
+	for (size_t i = 0; i < 2; ++i) {
+		EXPECT_EQ(got[i].axis, stored[i].axis);
+		EXPECT_EQ(got[i].point, stored[i].point);
+		EXPECT_EQ(got[i].turnDeg, stored[i].turnDeg);
+		EXPECT_EQ(got[i].differingShare, stored[i].differingShare);
+	}
+	auto summary = summariseModelFile(file);
+	ASSERT_TRUE(summary.ok());
+	const std::string text = formatForestFileSummary(*summary);
+	EXPECT_NE(text.find("near-symmetries: 2"), std::string::npos) << text;
+	EXPECT_NE(text.find("any turn, differing 8.0 %"), std::string::npos) << text;
+	EXPECT_NE(text.find("turn 180 deg, differing 21.0 %"), std::string::npos) << text;
+}
+
+// Without near-symmetries the file stays version 2 (older readers read it)
+// and loads with none.
+TEST_F(NearSymmetryFileTest, NoneStoredIsVersion2)
+{
+	const fs::path file = dir_ / "plain.ihf";
+	ASSERT_TRUE(save(file, {}).ok());
+	EXPECT_EQ(test::rd32(test::readBytes(file), 8), 2u);
+	auto model = loadModelFile(file);
+	ASSERT_TRUE(model.ok()) << model.error().message;
+	EXPECT_TRUE((*model)->nearSymmetries().empty());
+	auto summary = summariseModelFile(file);
+	ASSERT_TRUE(summary.ok());
+	EXPECT_NE(formatForestFileSummary(*summary).find("near-symmetries: none stored"), std::string::npos);
+}
+
+TEST_F(NearSymmetryFileTest, BadRecordsAreRefused)
+{
+	NearSymmetry bad = nearSymmetryFixture(90.0f, 0.1f);
+	bad.axis *= 2.0f;
+	Status s = save(dir_ / "bad.ihf", std::span<const NearSymmetry>(&bad, 1));
+	ASSERT_FALSE(s.ok());
+	EXPECT_NE(s.error().message.find("axis of length"), std::string::npos) << s.error().message;
+
+	// A stored record forged: the share out of range, the CRCs resealed.
+	const NearSymmetry good = nearSymmetryFixture(90.0f, 0.1f);
+	const fs::path file = dir_ / "forged.ihf";
+	ASSERT_TRUE(save(file, std::span<const NearSymmetry>(&good, 1)).ok());
+	test::Bytes b = test::readBytes(file);
+	const auto forgedEntries = test::rawEntries(b);
+	const auto *sec = test::findEntry(forgedEntries, 7, 0);
+	ASSERT_TRUE(sec);
+	const float share = 1.5f;
+	uint32_t bits;
+	std::memcpy(&bits, &share, 4);
+	test::wr32(b, sec->offset + 28, bits);
+	test::resealCrcs(b);
+	test::writeBytes(file, b);
+	auto r = loadModelFile(file);
+	ASSERT_FALSE(r.ok());
+	EXPECT_NE(r.error().message.find("NEAR_SYMMETRIES: record 0: differing share"), std::string::npos)
+		<< r.error().message;
+
+	// The section in a file that says version 2.
+	b = test::readBytes(file);
+	test::wr32(b, 8, 2);
+	test::resealCrcs(b);
+	test::writeBytes(file, b);
+	r = loadModelFile(file);
+	ASSERT_FALSE(r.ok());
+	EXPECT_NE(r.error().message.find("NEAR_SYMMETRIES in a version 2 file"), std::string::npos)
+		<< r.error().message;
 }
 
 } // namespace

@@ -13,6 +13,7 @@
 
 #include "core/dataset/bop_dataset.h"
 #include "core/dataset/bop_io.h"
+#include "core/geometry/ply_loader.h"
 #include "tests/common/test_paths.h"
 
 namespace ihf {
@@ -215,6 +216,45 @@ TEST(SynthCliErrors, BadRequestsFailClearlyAndLeaveNothing)
 	const auto r = test::runIhf("synth --models " + m + " --objects 1 --images 1 --out '" + out.string() + "'");
 	EXPECT_NE(r.exitCode, 0);
 	EXPECT_EQ(readAll(out / "keep.txt"), "mine");
+	fs::remove_all(dir);
+}
+
+// --make-object writes the mesh and its models_info.json entry beside the
+// entries already there; --without-part the body alone; a synthetic set
+// then takes the object as it takes the LM-O meshes.
+TEST(SynthCliObjects, MakeObjectWritesTheMeshAndItsModelsInfoEntry)
+{
+	const fs::path dir = test::freshTempDir("synth_cli_objects_" + std::to_string(::getpid()));
+	const fs::path models = dir / "models";
+	auto r = test::runIhf("synth --make-object cup --id 31 --models '" + models.string() + "'");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	r = test::runIhf("synth --make-object camera --id 32 --models '" + models.string() + "'");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	auto info = readModelsInfo(models / "models_info.json");
+	ASSERT_TRUE(info.ok()) << info.error().message;
+	ASSERT_EQ(info->size(), 2u);
+	EXPECT_NEAR(info->at(31).size.z(), 95.0, 1e-3);
+	EXPECT_GT(info->at(31).diameter, 100.0);
+	EXPECT_FALSE(info->at(32).symmetric()); // the lens tells the turns apart
+	auto cup = loadPly(models / "obj_000031.ply");
+	ASSERT_TRUE(cup.ok());
+	EXPECT_TRUE(isClosedOutward(*cup));
+
+	r = test::runIhf("synth --make-object cup --id 31 --without-part --models '" + (dir / "bodies").string() + "'");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	auto body = loadPly(dir / "bodies" / "obj_000031.ply");
+	ASSERT_TRUE(body.ok());
+	EXPECT_LT(body->vertices.size(), cup->vertices.size());
+
+	r = test::runIhf("synth --models '" + models.string() + "' --objects 31 --images 2 --seed 5 --quiet --out '" +
+			 (dir / "syn").string() + "'");
+	EXPECT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_TRUE(fs::exists(dir / "syn" / "boxes.json"));
+
+	EXPECT_EQ(test::runIhf("synth --make-object kettle --id 40 --models '" + models.string() + "'").exitCode, 2);
+	EXPECT_EQ(test::runIhf("synth --make-object cup --models '" + models.string() + "'").exitCode, 2);
+	EXPECT_EQ(test::runIhf("synth --make-object cup --id 31 --images 3 --models '" + models.string() + "'").exitCode,
+		  2);
 	fs::remove_all(dir);
 }
 

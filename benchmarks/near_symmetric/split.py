@@ -1,0 +1,82 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+# Issue 50's split by whether the small part shows: per object, the boxes of
+# a results CSV split by the part's visibility at the true pose
+# (part_visibility's JSON lines): "visible" (at least half of the part's
+# pixels seen, and at least 20), "hidden" (fewer than 5 seen), "partly"
+# (the rest). For each: boxes, right at ADD <= 0.1 d, and the share the
+# estimate flagged ambiguous (ihf estimate --stats-json's ambiguous_poses).
+#
+#   split.py DATASET RESULTS.csv VISIBILITY.jsonl STATS.json
+import csv, json, math, os, struct, sys
+
+dataset, results, visibility, stats = sys.argv[1:5]
+
+def ply_vertices(path):
+    with open(path, 'rb') as f:
+        header = []
+        while True:
+            line = f.readline().decode('ascii').strip()
+            header.append(line)
+            if line == 'end_header':
+                break
+        n = next(int(l.split()[2]) for l in header if l.startswith('element vertex'))
+        props = []
+        in_vertex = False
+        for l in header:
+            if l.startswith('element'):
+                in_vertex = l.startswith('element vertex')
+            elif l.startswith('property') and in_vertex:
+                props.append(l.split()[1])
+        sizes = {'float': 4, 'float32': 4, 'double': 8, 'uchar': 1, 'uint8': 1, 'int': 4, 'uint': 4}
+        stride = sum(sizes[p] for p in props)
+        assert props[:3] == ['float', 'float', 'float'] or props[:3] == ['float32'] * 3, props
+        data = f.read(n * stride)
+        return [struct.unpack_from('<fff', data, i * stride) for i in range(n)]
+
+info = json.load(open(os.path.join(dataset, 'models', 'models_info.json')))
+models = {}
+def points(obj):
+    if obj not in models:
+        v = ply_vertices(os.path.join(dataset, 'models', 'obj_%06d.ply' % obj))
+        step = max(1, len(v) // 500)
+        models[obj] = v[::step]
+    return models[obj]
+
+def apply(R, t, x):
+    return [R[3 * i] * x[0] + R[3 * i + 1] * x[1] + R[3 * i + 2] * x[2] + t[i] for i in range(3)]
+
+gt = {}
+split_dir = os.path.join(dataset, 'test')
+for scene in sorted(os.listdir(split_dir)):
+    sg = json.load(open(os.path.join(split_dir, scene, 'scene_gt.json')))
+    for im, insts in sg.items():
+        for g in insts:
+            gt[(int(scene), int(im), g['obj_id'])] = (g['cam_R_m2c'], g['cam_t_m2c'])
+
+est = {}
+for row in csv.DictReader(open(results)):
+    key = (int(row['scene_id']), int(row['im_id']), int(row['obj_id']))
+    est[key] = ([float(x) for x in row['R'].split()], [float(x) for x in row['t'].split()])
+
+ambiguous = {(a['scene_id'], a['im_id'], a['obj_id']) for a in json.load(open(stats)).get('ambiguous_poses', [])}
+
+table = {}
+for line in open(visibility):
+    v = json.loads(line)
+    key = (v['scene_id'], v['im_id'], v['obj_id'])
+    part, seen = v['part_px'], v['visible_px']
+    kind = 'visible' if seen >= 20 and 2 * seen >= part else ('hidden' if seen < 5 else 'partly')
+    right = False
+    if key in est and key in gt:
+        (Re, te), (Rg, tg) = est[key], gt[key]
+        add = sum(math.dist(apply(Re, te, x), apply(Rg, tg, x)) for x in points(key[2])) / len(points(key[2]))
+        right = add <= 0.1 * info[str(key[2])]['diameter']
+    s = table.setdefault((key[2], kind), [0, 0, 0])
+    s[0] += 1
+    s[1] += right
+    s[2] += key in ambiguous
+
+print('%-6s %-8s %6s %14s %14s' % ('object', 'part', 'boxes', 'ADD-0.1d', 'ambiguous'))
+for (obj, kind), (n, right, amb) in sorted(table.items()):
+    print('%-6d %-8s %6d %7d (%.3f) %7d (%.3f)' % (obj, kind, n, right, right / n, amb, amb / n))

@@ -1,0 +1,158 @@
+// SPDX-License-Identifier: MIT
+#include "core/estimation/symmetry_rivals.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
+
+#include "core/pose/half_turns.h"
+
+namespace ihf {
+
+namespace {
+
+// Mean distance (mm) the model points move under a turn about (axis, point):
+// how far apart the evaluation puts a pose and its turn. At most 64 points,
+// evenly strided.
+double meanTurnDistance(std::span<const Eigen::Vector3f> vertices, const Eigen::Matrix3d &turn,
+			const Eigen::Vector3d &point)
+{
+	if (vertices.empty())
+		return 0;
+	const size_t stride = std::max<size_t>(1, vertices.size() / 64);
+	double sum = 0;
+	int n = 0;
+	for (size_t i = 0; i < vertices.size(); i += stride) {
+		const Eigen::Vector3d x = vertices[i].cast<double>();
+		sum += (turn * (x - point) + point - x).norm();
+		++n;
+	}
+	return sum / n;
+}
+
+bool decisive(int ahead, int behind, int informative, const SymmetryTurnConfig &c)
+{
+	return ahead - behind >= std::max(c.minPixels, static_cast<int>(std::ceil(c.decisiveShare * informative)));
+}
+
+} // namespace
+
+bool SymmetryRivalSource::enabled(const ProposalBox &box) const
+{
+	return box.config.symmetryTurns.enabled && !box.model.nearSymmetries().empty();
+}
+
+size_t SymmetryRivalSource::compareTurns(ProposalBox &box, const Pose &best, std::span<Turn> turns)
+{
+	const SymmetryTurnConfig &cfg = box.config.symmetryTurns;
+	const double distinctMm =
+		static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
+	const std::span<const Eigen::Vector3f> vertices = box.model.mesh().vertices;
+	size_t n = 0;
+	auto add = [&](const NearSymmetry &s, double deg) {
+		if (n >= turns.size())
+			return;
+		const Eigen::Vector3d axis = s.axis.cast<double>(), point = s.point.cast<double>();
+		const Eigen::Matrix3d turn =
+			Eigen::AngleAxisd(deg * std::numbers::pi / 180.0, axis).toRotationMatrix();
+		Turn &t = turns[n];
+		t.pose = turnedAbout(best, turn, point);
+		if (!(t.pose.t.z() > 0))
+			return;
+		t.axis = axis;
+		t.distinct = meanTurnDistance(vertices, turn, point) > distinctMm;
+		t.evidence = {};
+		++n;
+	};
+	for (const NearSymmetry &s : box.model.nearSymmetries()) {
+		if (s.continuous()) {
+			const int steps = std::max(2, static_cast<int>(std::lround(360.0 / std::max(cfg.stepDeg, 1.0f))));
+			for (int k = 1; k < steps; ++k)
+				add(s, 360.0 * k / steps);
+		} else {
+			add(s, s.turnDeg);
+			if (std::abs(s.turnDeg - 180.0f) > 1e-3f)
+				add(s, -s.turnDeg);
+		}
+	}
+	// The best's render kept; each turn rendered on its thread's slot and
+	// compared with it.
+	if (!box.scorer.render(best, 0))
+		return 0;
+	const ImageView<float> reference = box.workspace.reference();
+	const ImageView<float> bestRender = box.workspace.slot(0).render;
+	for (int y = 0; y < reference.height; ++y)
+		std::copy_n(bestRender.row(y), reference.width, reference.row(y));
+	const ImageView<const float> observed = box.scorer.window().observed;
+	const float tolerance = box.config.score.inlierMm;
+	box.workspace.workers().run(static_cast<int>(n), [&](int k, int slot) {
+		Turn &t = turns[static_cast<size_t>(k)];
+		if (box.scorer.render(t.pose, slot))
+			t.evidence = comparePoseRenders(observed, reference, box.workspace.slot(slot).render, tolerance);
+	});
+	return n;
+}
+
+Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best, std::span<const Hypothesis>)
+{
+	verdict_ = {};
+	const SymmetryTurnConfig &cfg = box.config.symmetryTurns;
+	Hypothesis current = best;
+	Turn turns[kMaxSymmetryTurns];
+	for (int round = 0; round < std::max(cfg.rounds, 1); ++round) {
+		if (!box.planner.stageFits(Stage::kSymmetryTurns, box.config.budgetMargin, true))
+			break;
+		const int64_t start = box.planner.timer().last();
+		const size_t n = compareTurns(box, current.pose, turns);
+		box.planner.observeStage(Stage::kSymmetryTurns, start, true);
+		verdict_.ran = true;
+		verdict_.compared = static_cast<int>(n);
+		verdict_.ambiguous = false;
+		verdict_.decisive = false;
+		// The turn the depth prefers most clearly, if any.
+		const Turn *winner = nullptr;
+		int distinctTurns = 0, beaten = 0;
+		for (size_t k = 0; k < n; ++k) {
+			const Turn &t = turns[k];
+			const PartEvidence &e = t.evidence;
+			if (decisive(e.forB, e.forA, e.informative, cfg) &&
+			    (!winner || e.forB - e.forA > winner->evidence.forB - winner->evidence.forA))
+				winner = &t;
+			if (!t.distinct)
+				continue;
+			++distinctTurns;
+			if (decisive(e.forA, e.forB, e.informative, cfg)) {
+				++beaten;
+			} else if (!verdict_.ambiguous) {
+				verdict_.ambiguous = true;
+				verdict_.axis = t.axis;
+			}
+		}
+		if (!winner || round + 1 == std::max(cfg.rounds, 1)) {
+			verdict_.decisive = distinctTurns > 0 && beaten == distinctTurns;
+			if (winner)
+				verdict_.ambiguous = true; // still a turn ahead when the rounds ran out
+			break;
+		}
+		// The preferred turn replaces the best, polished; then its own turns
+		// are compared with it.
+		Hypothesis h;
+		h.valid = true;
+		h.pose = winner->pose;
+		h.score = box.scorer.score(h.pose);
+		h.origin = current.origin;
+		h.iteration = current.iteration;
+		Hypothesis polished[1];
+		if (box.config.icp)
+			box.polisher.polishAll(std::span<const Hypothesis>(&h, 1), polished, Stage::kSymmetryTurns);
+		const Hypothesis &next = polished[0].valid ? polished[0] : h;
+		box.pool.report(next, "symmetry_turn", round);
+		current = next;
+		verdict_.turned = true;
+	}
+	return current;
+}
+
+} // namespace ihf

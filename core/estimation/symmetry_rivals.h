@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// The rival turns of a nearly symmetric object as a proposal source: the
+// best pose turned about each of the model's near-symmetries (near_symmetry.h;
+// every stepDeg about a continuous axis, the stored turn both ways round
+// about a discrete one), each compared with the best on the pixels where
+// their renders differ (part_evidence.h), not by the whole-silhouette score
+// on which they tie. A turn that the depth clearly prefers replaces the
+// best (then polished, and compared again with its own turns); the final
+// comparison says whether the best beat every distinct turn (decisive) or
+// whether the depth cannot tell it from one (the part hidden: ambiguous, with
+// that turn's axis). Not in the paper.
+
+#include <span>
+
+#include <Eigen/Core>
+
+#include "core/estimation/part_evidence.h"
+#include "core/estimation/proposal_source.h"
+#include "core/estimation/symmetry_turn_config.h"
+
+namespace ihf {
+
+// Turns compared per round at most.
+inline constexpr int kMaxSymmetryTurns = 48;
+
+// What the last box's comparison found.
+struct SymmetryVerdict {
+	bool ran = false;       // the best was compared with its turns
+	bool turned = false;    // a turn replaced the best
+	bool decisive = false;  // the best beat every distinct turn on the pixels where they differ
+	bool ambiguous = false; // a distinct turn the depth cannot tell from the best
+	Eigen::Vector3d axis = Eigen::Vector3d::Zero(); // that turn's axis, model frame
+	int compared = 0;       // turns compared in the last round
+};
+
+class SymmetryRivalSource : public ProposalSource
+{
+public:
+	bool enabled(const ProposalBox &box) const override;
+	// The best, or a turn of it that the depth prefers (polished); invalid
+	// when the budget stopped it before any comparison.
+	Hypothesis propose(ProposalBox &box, const Hypothesis &best, std::span<const Hypothesis> polished) override;
+	const SymmetryVerdict &verdict() const { return verdict_; }
+	// Forgets the last verdict (a box where the source does not run).
+	void clear() { verdict_ = {}; }
+
+private:
+	struct Turn {
+		Pose pose;
+		Eigen::Vector3d axis;
+		bool distinct = false; // its model points lie more than the confidence's distinct share away
+		PartEvidence evidence; // A: the best, B: the turn
+	};
+	// best's turns (at most kMaxSymmetryTurns), each rendered and compared
+	// with best's render; returns how many.
+	static size_t compareTurns(ProposalBox &box, const Pose &best, std::span<Turn> turns);
+
+	SymmetryVerdict verdict_;
+};
+
+} // namespace ihf
