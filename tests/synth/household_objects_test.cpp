@@ -59,9 +59,11 @@ TEST(HouseholdObjects, CameraHasItsLensOnMinusYAndItsLugOnTop)
 	EXPECT_LT(box.min.y(), -34.0f - 40.0f); // the lens stands out in front
 	EXPECT_GT(box.max.z(), 82.0f + 5.0f);  // lug and button stand on top
 	// Only the lug stands on the top's -x half.
-	for (const Eigen::Vector3f &v : m.vertices)
-		if (v.z() > 82.5f && v.x() < 0)
+	for (const Eigen::Vector3f &v : m.vertices) {
+		if (v.z() > 82.5f && v.x() < 0) {
 			EXPECT_LT(v.x(), -40.0f);
+		}
+	}
 }
 
 TEST(HouseholdObjects, BottleHasItsNozzleOnPlusXOnly)
@@ -71,9 +73,11 @@ TEST(HouseholdObjects, BottleHasItsNozzleOnPlusXOnly)
 	EXPECT_NEAR(box.min.x(), -48.0f, 0.1f);
 	EXPECT_NEAR(box.max.y(), 28.0f, 0.1f);
 	EXPECT_NEAR(box.max.z(), 212.0f, 0.1f);
-	for (const Eigen::Vector3f &v : m.vertices)
-		if (v.z() > 190.0f)
+	for (const Eigen::Vector3f &v : m.vertices) {
+		if (v.z() > 190.0f) {
 			EXPECT_GT(v.x(), -15.5f); // nothing but the pump head on -x
+		}
+	}
 	EXPECT_NEAR(box.max.x(), 48.0f, 0.1f); // the body, the nozzle stays inside it in x
 }
 
