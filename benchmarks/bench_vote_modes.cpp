@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Mode finding on a vote set shaped like an occluded ape box's (trace of
-// issue 3): 20 000 votes, a few percent near the true centre and rotation,
+// Mode finding on a vote set shaped like an occluded ape box's: 20 000
+// votes, a few percent near the true centre and rotation,
 // the rest spread over the box's depth slab with confusable rotations.
 
 #include <random>

@@ -7,7 +7,7 @@
 // With --grow, a forest is grown on the training parts in process (a fast
 // loop over the trainer's settings); with --forest, a forest file is walked;
 // both report the share of their votes within 20 deg for the same queries.
-// BENCHMARKS.md (issue 3) uses it to predict the forest's vote quality
+// BENCHMARKS.md uses it to predict the forest's vote quality
 // before growing full forests.
 //
 //   descriptor_retrieval MESH.ply [--kind fixed|variable] [--side S] [--n N]

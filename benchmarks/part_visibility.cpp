@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Where a nearly symmetric object's small part shows (issue 50's split by
+// Where a nearly symmetric object's small part shows (the split by
 // visibility): for every ground-truth instance of a BOP dataset whose object
 // has a body mesh (the object without its part: `ihf synth --make-object
 // NAME --without-part`) in BODIES, the object and its body are rendered at

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 # Given boxes from a BOP dataset's ground truth: bbox_obj (the whole
 # object's box) enlarged by a factor about its centre, as a BOP detection
-# list for `ihf estimate --boxes`. Issue 3 evaluates LM-O this way.
+# list for `ihf estimate --boxes`.
 import argparse, json, os, sys
 
 ap = argparse.ArgumentParser()

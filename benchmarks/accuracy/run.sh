@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The paper's comparison on our synthetic benchmark (issue 3): synthesise
+# The paper's comparison on our synthetic benchmark: synthesise
 # the scenes, train each object's forest with variable and with fixed
 # parts, estimate with the three IHF variants and score them with ihf eval.
 #

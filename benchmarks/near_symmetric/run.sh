@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# Issue 50's benchmark: objects of the paper's kind, nearly symmetric and told
+# The nearly symmetric objects' benchmark: objects of the paper's kind, nearly symmetric and told
 # apart by a small part (ids 31 cup, 32 camera, 33 bottle; procedural,
 # `ihf synth --make-object`). Makes the meshes and their bodies without the
 # part, the synthetic scenes (110 images an object, occlusion 10-60 %), the

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-# Issue 50's split by whether the small part shows: per object, the boxes of
+# The split by whether the small part shows: per object, the boxes of
 # a results CSV split by the part's visibility at the true pose
 # (part_visibility's JSON lines): "visible" (at least half of the part's
 # pixels seen, and at least 20), "hidden" (fewer than 5 seen), "partly"

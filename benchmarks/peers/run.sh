@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The peer comparison (issue 6) in one command: IHF variants and every peer
+# The peer comparison in one command: IHF variants and every peer
 # built into ihf_peers, on the same dataset and boxes, scored by ihf eval.
 #
 #   benchmarks/peers/run.sh DATASET BOXES OUTDIR FOREST_ARGS...
@@ -73,7 +73,7 @@ if [ ${#fixed[@]} -gt 0 ]; then
 	# The device mode: the default config inside a budget of B ms per box
 	# (the budget bounds of config/estimate.toml apply), still one thread.
 	# ihf estimate's budget is per frame, shared by its boxes. 33 ms per box
-	# is 100x below OpenCV PPF's ~3.3 s (issue 6's target).
+	# is 100x below OpenCV PPF's ~3.3 s.
 	perFrame=$(python3 - "$boxes" "$objects" <<'PY'
 import collections, json, sys
 ids = {int(i) for i in sys.argv[2].split(',')}

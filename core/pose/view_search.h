@@ -51,7 +51,7 @@ struct ViewSearchConfig {
 	// On an axis the frame clipped on one side the rotation's extent goes
 	// against the box's other side, and also edgeInsets more times, each
 	// edgeInsetShare of the extent further inside: a box drawn round the
-	// object with a margin (issue 3's protocol: 10 % larger; a detector's
+	// object with a margin (the LM-O protocol: 10 % larger; a detector's
 	// slack) has the object's far edge inside its own, and a rotation
 	// placed tens of millimetres off scores below wrong ones before the
 	// climb could move it (without the insets synkaz boxes at the border

@@ -40,7 +40,7 @@ struct TrainSettings {
 // weights that gain with boxes round the whole object lose with boxes round
 // its visible part (BENCHMARKS.md).
 enum class BoxKind {
-	kAmodal, // the whole object, hidden parts too (BOP's bbox_obj; issue 3's LM-O protocol)
+	kAmodal, // the whole object, hidden parts too (BOP's bbox_obj; the LM-O protocol)
 	kModal,  // the visible part (BOP's bbox_visib; what most detectors give)
 };
 
