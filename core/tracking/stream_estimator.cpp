@@ -479,6 +479,8 @@ void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth
 	// The frame's deadline and its overrun count are the budget planner's,
 	// as for the detector's own frames.
 	frame_.beginFrame(static_cast<int>(boxes.size()), budgetMs);
+	// The reserve's floor, for this frame's budget (the reserve fades
+	// below it between frames).
 	if (!frame_.unlimited())
 		overshootMs_ = std::max(overshootMs_, reserveFloorMs(budgetMs));
 	++stats_.frames;
@@ -529,8 +531,8 @@ void StreamEstimator::estimateFrame(uint64_t frame, ImageView<const float> depth
 	// The frame's own overshoot too (its tracked boxes ran before its
 	// detections were planned); the reserve fades a frame at a time.
 	if (!frame_.unlimited())
-		overshootMs_ = std::max({static_cast<double>(end - frame_.frame().frameDeadline()) * 1e-6,
-					 overshootMs_ * kOvershootDecay, reserveFloorMs(budgetMs)});
+		overshootMs_ =
+			std::max(static_cast<double>(end - frame_.frame().frameDeadline()) * 1e-6, overshootMs_ * kOvershootDecay);
 	frame_.endFrame(end);
 }
 
