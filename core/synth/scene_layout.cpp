@@ -94,20 +94,25 @@ PlaceableModel randomPrimitive(SynthRandom &rng, double scale)
 {
 	const double u = rng.uniform01();
 	const double s = scale;
-	if (u < 0.3)
-		return primitiveModel(makeBox(logUniform(rng, 30 * s, 220 * s),
-					      logUniform(rng, 30 * s, 220 * s),
-					      logUniform(rng, 20 * s, 260 * s)));
-	if (u < 0.42) // books, boxes lying flat, a tray
-		return primitiveModel(makeBox(logUniform(rng, 100 * s, 320 * s),
-					      logUniform(rng, 80 * s, 250 * s),
-					      logUniform(rng, 5 * s, 45 * s)));
-	if (u < 0.7)
-		return primitiveModel(makeCylinder(logUniform(rng, 15 * s, 70 * s),
-						   logUniform(rng, 30 * s, 250 * s)));
-	if (u < 0.85)
-		return primitiveModel(makeLyingCylinder(logUniform(rng, 15 * s, 50 * s),
-							logUniform(rng, 60 * s, 250 * s)));
+	// Sizes are drawn one statement each, last dimension first: the order
+	// of a call's arguments is up to the compiler, and a seed must give the
+	// same scene whoever built ihf.
+	if (u < 0.3) {
+		const double d = logUniform(rng, 20 * s, 260 * s), h = logUniform(rng, 30 * s, 220 * s);
+		return primitiveModel(makeBox(logUniform(rng, 30 * s, 220 * s), h, d));
+	}
+	if (u < 0.42) { // books, boxes lying flat, a tray
+		const double d = logUniform(rng, 5 * s, 45 * s), h = logUniform(rng, 80 * s, 250 * s);
+		return primitiveModel(makeBox(logUniform(rng, 100 * s, 320 * s), h, d));
+	}
+	if (u < 0.7) {
+		const double length = logUniform(rng, 30 * s, 250 * s);
+		return primitiveModel(makeCylinder(logUniform(rng, 15 * s, 70 * s), length));
+	}
+	if (u < 0.85) {
+		const double length = logUniform(rng, 60 * s, 250 * s);
+		return primitiveModel(makeLyingCylinder(logUniform(rng, 15 * s, 50 * s), length));
+	}
 	return primitiveModel(makeSphere(logUniform(rng, 15 * s, 70 * s)));
 }
 
@@ -136,8 +141,8 @@ SceneLayout LayoutSampler::sampleBase(int targetId, SynthRandom &rng, double ele
 	const double r = 0.5 * model.diameter * K_.fx / distance;
 	const double hw = std::clamp(0.5 * K_.width - 0.8 * r - 10, 0.0, 0.3 * K_.width);
 	const double hh = std::clamp(0.5 * K_.height - 0.8 * r - 10, 0.0, 0.3 * K_.height);
-	const Eigen::Vector2d aim(0.5 * K_.width + rng.uniform(-hw, hw),
-				  0.5 * K_.height + rng.uniform(-hh, hh));
+	const double aimY = 0.5 * K_.height + rng.uniform(-hh, hh); // y first, as the box sizes
+	const Eigen::Vector2d aim(0.5 * K_.width + rng.uniform(-hw, hw), aimY);
 	layout.view = lookAtTarget(layout.objects[0].modelToWorld.t, distance, elevation, azimuth,
 				   roll, aim, K_);
 	return layout;
@@ -266,8 +271,8 @@ void LayoutSampler::addClutter(SceneLayout &layout, const std::vector<int> &excl
 		} else if (kind < 0.75) {
 			model = randomPrimitive(rng);
 		} else {
-			model = primitiveModel(makeBox(logUniform(rng, 150, 450), logUniform(rng, 150, 450),
-						       logUniform(rng, 80, 350)));
+			const double d = logUniform(rng, 80, 350), h = logUniform(rng, 150, 450);
+			model = primitiveModel(makeBox(logUniform(rng, 150, 450), h, d));
 			big = true;
 		}
 		const int rest = model.objId > 0 && rng.chance(params_.uprightProbability)

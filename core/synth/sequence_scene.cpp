@@ -117,7 +117,10 @@ bool Planner::offScene(const SceneObject &obj, int self, double start, double en
 	const Eigen::Vector3d rest = obj.modelToWorld.t;
 	for (int k = 0; k < 8; ++k) {
 		// Sideways from the camera's side of the table, out of the picture.
-		const double a = baseAzimuth_ + (rng.chance(0.5) ? 0.5 : -0.5) * kPi + rng.uniform(-0.5, 0.5);
+		// One draw a statement: the order of an expression's operands is
+		// the compiler's, and a seed must give one sequence.
+		const double side = rng.chance(0.5) ? 0.5 : -0.5;
+		const double a = baseAzimuth_ + side * kPi + rng.uniform(-0.5, 0.5);
 		const double reach = 700 + 350 * k;
 		const Eigen::Vector2d far = obj.footprint.centre + reach * unit(a);
 		const double lift = liftHeight(obj, self, obj.footprint.centre, far, objects);
@@ -197,13 +200,14 @@ Expected<SequenceScene> Planner::attempt(uint64_t key, int index)
 			// Beside a target already placed, a small gap between them.
 			SceneLayout anchor;
 			anchor.objects.push_back(layout.objects[rng.below(layout.objects.size())]);
-			const double along = baseAzimuth_ + (rng.chance(0.5) ? 0.0 : kPi) + rng.uniform(-0.7, 0.7);
+			const double end = rng.chance(0.5) ? 0.0 : kPi; // one draw a statement
+			const double along = baseAzimuth_ + end + rng.uniform(-0.7, 0.7);
 			// In line first; anywhere around when the line is full.
 			const bool inLine = t < 20 && rng.chance(p_.inLineProbability);
 			const Eigen::Vector2d dir = unit(inLine ? along : rng.uniform(0, 2 * kPi));
-			const double d = sampler_.clearDistance(anchor, obj, dir, {0, 0},
-								 rng.uniform(2.0, p_.targetGapMax)) +
-					 (t / 40.0) * 100.0 * rng.uniform01();
+			const double clear = sampler_.clearDistance(anchor, obj, dir, {0, 0},
+								     rng.uniform(2.0, p_.targetGapMax));
+			const double d = clear + (t / 40.0) * 100.0 * rng.uniform01();
 			moveOnTable(obj, anchor.objects[0].footprint.centre + d * dir);
 			ok = obj.footprint.centre.norm() <= p_.groupRadius && !overlapsAny(layout.objects, obj, -1, 2.0);
 		}
@@ -284,8 +288,8 @@ Expected<SequenceScene> Planner::attempt(uint64_t key, int index)
 		if (ev.kind == CarryKind::kMove) {
 			const Placed &pl = placed[static_cast<size_t>(ev.slot)];
 			for (int t = 0; t < 80 && !ok; ++t) {
-				const Eigen::Vector2d xy = mean + p_.groupRadius * std::sqrt(rng.uniform01()) *
-									  unit(rng.uniform(0, 2 * kPi));
+				const Eigen::Vector2d dir = unit(rng.uniform(0, 2 * kPi)); // then the radius
+				const Eigen::Vector2d xy = mean + p_.groupRadius * std::sqrt(rng.uniform01()) * dir;
 				SceneObject dest = placeTarget(pl.objId, pl.rest, rng.uniform(0, 2 * kPi), xy);
 				if ((xy - obj.footprint.centre).norm() < 80.0 ||
 				    overlapsAny(reserved, dest, ev.slot, 2.0) ||
