@@ -58,7 +58,7 @@ TEST_F(ForestCliTest, InfoPrintsTheSummary)
 
 	// Per-tree row: index, nodes, leaves, templates, votes, depth (then the
 	// stored template bins).
-	size_t nodes = 0, votes = 0;
+	size_t nodes = 0;
 	for (size_t t = 0; t < forest_.trees.size(); ++t) {
 		const HoughTree &tree = forest_.trees[t];
 		char row[128];
@@ -67,7 +67,6 @@ TEST_F(ForestCliTest, InfoPrintsTheSummary)
 			      tree.votes.size(), tree.depth());
 		EXPECT_NE(out.find(row), std::string::npos) << "missing row: " << row << out;
 		nodes += tree.nodes.size();
-		votes += tree.votes.size();
 	}
 	EXPECT_NE(out.find(" all " + std::string(10 - std::to_string(nodes).size(), ' ') +
 			   std::to_string(nodes)),

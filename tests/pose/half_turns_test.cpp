@@ -148,7 +148,7 @@ protected:
 	}
 
 	const CameraIntrinsics K{572.4114, 573.57043, 160.0, 120.0, 320, 240};
-	const ScoreConfig cfg;
+	const ScoreConfig cfg{};
 	Mesh mesh;
 	Pose truth;
 	std::unique_ptr<DepthRenderer> renderer;
