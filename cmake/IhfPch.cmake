@@ -1,14 +1,15 @@
 # SPDX-License-Identifier: MIT
-# Precompiled headers (IHF_PCH): CI builds the code three times (amd64,
-# aarch64, armhf) on two cores, and Eigen alone costs ~2 s of parsing per
-# source file. Two anchor targets precompile the common headers once per
+# Precompiled headers (IHF_PCH): CI builds the code four times (amd64, its
+# sanitizer build, aarch64, armhf) on two cores, and Eigen alone costs ~2 s
+# of parsing per source file. Two anchor targets precompile the common headers once per
 # build; every other C++ target reuses their PCH (REUSE_FROM), so the
 # flags of all of them must match. Targets with their own flags that change
-# what the headers mean (EIGEN_RUNTIME_NO_MALLOC, -UNDEBUG, -fPIC, their own
-# -f[no-]sanitize) keep
-# parsing the headers themselves. GCC checks that a PCH fits the command
-# line and otherwise falls back to the header text (-Winvalid-pch says so),
-# so a mismatch costs time, never correctness.
+# what the headers mean (EIGEN_RUNTIME_NO_MALLOC, -UNDEBUG, -fPIC) keep
+# parsing the headers themselves. The sanitizer build's flags are
+# project-wide, the anchors' too, so its targets share the PCH as well. GCC
+# checks that a PCH fits the command line and otherwise falls back to the
+# header text (-Winvalid-pch says so), so a mismatch costs time, never
+# correctness.
 set(_ihf_pch_headers
   <algorithm> <array> <chrono> <cmath> <cstdint> <cstdio> <cstring> <filesystem>
   <fstream> <map> <memory> <optional> <random> <span> <string> <vector>
@@ -48,7 +49,7 @@ function(ihf_enable_pch)
     get_target_property(pic ${t} POSITION_INDEPENDENT_CODE)
     get_target_property(opts ${t} COMPILE_OPTIONS)
     get_target_property(defs ${t} COMPILE_DEFINITIONS)
-    if(pic OR "${opts}" MATCHES "UNDEBUG|sanitize" OR "${defs}" MATCHES "EIGEN_")
+    if(pic OR "${opts}" MATCHES "UNDEBUG" OR "${defs}" MATCHES "EIGEN_")
       continue()
     endif()
     # Objects of a target that links the no-malloc frame path: own flags.
