@@ -54,10 +54,12 @@ bool BudgetPlanner::chooseLeanSearch(double leanSearchBelow)
 	return leanSearch_;
 }
 
-void BudgetPlanner::plan(int searches, int polishRounds)
+void BudgetPlanner::plan(int searches, int polishRounds, Stage kept, int keptLast)
 {
 	plannedSearches_ = searches;
 	plannedPolishRounds_ = polishRounds;
+	kept_ = kept;
+	keptLast_ = kept == Stage::kCount ? 0 : keptLast;
 }
 
 // One vote pass, predicted from the refinement iterations and the initial
@@ -75,9 +77,14 @@ int64_t BudgetPlanner::polishCost(double margin) const
 	return costs_.bound(Stage::kIcp, margin, boxWork_);
 }
 
+int64_t BudgetPlanner::keptCost(double margin) const
+{
+	return keptLast_ > 0 ? keptLast_ * costs_.bound(kept_, margin, boxWork_) : 0;
+}
+
 int64_t BudgetPlanner::searchCost(double margin, int polishRounds) const
 {
-	return searchCosts().bound(Stage::kViews, margin) + polishRounds * polishCost(margin);
+	return searchCosts().bound(Stage::kViews, margin) + polishRounds * polishCost(margin) + keptCost(margin);
 }
 
 bool BudgetPlanner::passFits(double margin)
@@ -87,7 +94,7 @@ bool BudgetPlanner::passFits(double margin)
 	// than it gains: a box cut to one polish round after all its passes
 	// places small objects far less often than one with its searches.
 	return fits(passCost(margin) + plannedSearches_ * searchCosts().bound(Stage::kViews, margin) +
-		    plannedPolishRounds_ * polishCost(margin));
+		    plannedPolishRounds_ * polishCost(margin) + keptCost(margin));
 }
 
 bool BudgetPlanner::searchFits(double margin, int polishRounds)

@@ -79,14 +79,20 @@ public:
 	// with it (ICP, the half-turns); 1 for fixed costs.
 	void setBoxWork(double work) { boxWork_ = work; }
 
-	// What the box runs after its vote passes.
-	void plan(int searches, int polishRounds);
+	// What the box runs after its vote passes: view searches, polish rounds
+	// and, last, the stages kept (`keptLast` runs of `kept`, scaled with the
+	// box's work: a nearly symmetric object's comparison of its turns, the
+	// step that places its part).
+	void plan(int searches, int polishRounds, Stage kept = Stage::kCount, int keptLast = 0);
 	// Whether a vote pass (a refinement iteration, a further slab) fits
-	// with room for the planned searches and polish rounds after it.
+	// with room for the planned searches and polish rounds after it, and
+	// for the stages kept last.
 	bool passFits(double margin);
-	// A view search, with polishRounds ICP rounds after it.
+	// A view search, with polishRounds ICP rounds after it and room for the
+	// stages kept last.
 	bool searchFits(double margin, int polishRounds);
-	// A re-search round, with its polish rounds; refusals counted apart.
+	// A re-search round, with its polish rounds and room for the stages
+	// kept last; refusals counted apart.
 	bool researchFits(double margin, int polishRounds);
 	// A polish round (ICP and its score); refusals counted apart.
 	bool polishFits(double margin);
@@ -116,6 +122,7 @@ private:
 	int64_t passCost(double margin) const;
 	int64_t searchCost(double margin, int polishRounds) const;
 	int64_t polishCost(double margin) const;
+	int64_t keptCost(double margin) const;
 	bool fits(int64_t predictedNs);
 	const StageCostModel &searchCosts() const { return leanSearch_ ? leanCosts_ : costs_; }
 	StageCostModel &searchCosts() { return leanSearch_ ? leanCosts_ : costs_; }
@@ -131,6 +138,8 @@ private:
 	double boxWork_ = 1.0;
 	int plannedSearches_ = 0;
 	int plannedPolishRounds_ = 0;
+	Stage kept_ = Stage::kCount;
+	int keptLast_ = 0;
 	int64_t boxStartNs_ = 0;
 	int64_t registrationNs_ = 0;
 	bool boxCut_ = false;

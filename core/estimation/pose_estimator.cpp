@@ -236,7 +236,10 @@ void PoseEstimator::planAfterPasses(const ProposalBox &box)
 	if (config.icp)
 		rounds = std::max(1, box.polisher.rounds(static_cast<size_t>(std::max(0, config.icpCandidates)))) +
 			 (research ? box.polisher.rounds(researchPolished(config)) : 0);
-	planner_.plan(searches, rounds);
+	// A nearly symmetric object's comparison of its turns comes last and
+	// is what places its part: its time is kept from the passes and
+	// searches before it.
+	planner_.plan(searches, rounds, Stage::kSymmetryTurns, symmetryTurns_.enabled(box) ? 1 : 0);
 }
 
 // Eq. 10: each refinement sees only the crop inside the previous

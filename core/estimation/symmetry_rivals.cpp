@@ -32,6 +32,22 @@ double meanTurnDistance(std::span<const Eigen::Vector3f> vertices, const Eigen::
 	return sum / n;
 }
 
+// Mean distance (mm) between the model points placed by a and by b.
+double meanPoseDistance(std::span<const Eigen::Vector3f> vertices, const Pose &a, const Pose &b)
+{
+	if (vertices.empty())
+		return 0;
+	const size_t stride = std::max<size_t>(1, vertices.size() / 64);
+	double sum = 0;
+	int n = 0;
+	for (size_t i = 0; i < vertices.size(); i += stride) {
+		const Eigen::Vector3d x = vertices[i].cast<double>();
+		sum += ((a.R * x + a.t) - (b.R * x + b.t)).norm();
+		++n;
+	}
+	return sum / n;
+}
+
 bool decisive(int ahead, int behind, int informative, const SymmetryTurnConfig &c)
 {
 	return ahead - behind >= std::max(c.minPixels, static_cast<int>(std::ceil(c.decisiveShare * informative)));
@@ -64,6 +80,7 @@ size_t SymmetryRivalSource::compareTurns(ProposalBox &box, const Pose &best, std
 		t.axis = axis;
 		t.distinct = meanTurnDistance(vertices, turn, point) > distinctMm;
 		t.evidence = {};
+		t.polished = {};
 		++n;
 	};
 	for (const NearSymmetry &s : box.model.nearSymmetries()) {
@@ -85,14 +102,88 @@ size_t SymmetryRivalSource::compareTurns(ProposalBox &box, const Pose &best, std
 	const ImageView<float> bestRender = box.workspace.slot(0).render;
 	for (int y = 0; y < reference.height; ++y)
 		std::copy_n(bestRender.row(y), reference.width, reference.row(y));
+	Turn *all[kMaxSymmetryTurns];
+	for (size_t k = 0; k < n; ++k)
+		all[k] = &turns[k];
+	compareWithReference(box, std::span<Turn *>(all, n));
+	return n;
+}
+
+void SymmetryRivalSource::compareWithReference(ProposalBox &box, std::span<Turn *> turns)
+{
+	const ImageView<const float> reference = box.workspace.reference();
 	const ImageView<const float> observed = box.scorer.window().observed;
 	const float tolerance = box.config.score.inlierMm;
-	box.workspace.workers().run(static_cast<int>(n), [&](int k, int slot) {
-		Turn &t = turns[static_cast<size_t>(k)];
+	box.workspace.workers().run(static_cast<int>(turns.size()), [&](int k, int slot) {
+		Turn &t = *turns[static_cast<size_t>(k)];
+		t.evidence = {};
 		if (box.scorer.render(t.pose, slot))
 			t.evidence = comparePoseRenders(observed, reference, box.workspace.slot(slot).render, tolerance);
 	});
-	return n;
+}
+
+void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best, std::span<Turn> turns)
+{
+	const SymmetryTurnConfig &cfg = box.config.symmetryTurns;
+	if (cfg.polishRivals <= 0 || !box.config.icp || !box.planner.polishFits(box.config.budgetMargin))
+		return;
+	// The turns the best does not clearly beat, the one the depth prefers
+	// most first.
+	Turn *picked[kMaxSymmetryRivalsPolished];
+	size_t np = 0;
+	const size_t wanted = static_cast<size_t>(std::min(cfg.polishRivals, kMaxSymmetryRivalsPolished));
+	for (Turn &t : turns) {
+		const PartEvidence &e = t.evidence;
+		if (decisive(e.forA, e.forB, e.informative, cfg))
+			continue;
+		const auto ahead = [](const Turn *u) { return u->evidence.forB - u->evidence.forA; };
+		size_t at = np;
+		while (at > 0 && ahead(picked[at - 1]) < ahead(&t))
+			--at;
+		if (at >= wanted)
+			continue;
+		np = std::min(np + 1, wanted);
+		for (size_t j = np - 1; j > at; --j)
+			picked[j] = picked[j - 1];
+		picked[at] = &t;
+	}
+	if (np == 0)
+		return;
+	Hypothesis in[kMaxSymmetryRivalsPolished], out[kMaxSymmetryRivalsPolished];
+	for (size_t j = 0; j < np; ++j) {
+		in[j].valid = true;
+		in[j].pose = picked[j]->pose;
+		in[j].score = best.score; // the polish's depth range: the body they share
+		in[j].origin = best.origin;
+		in[j].iteration = best.iteration;
+	}
+	box.polisher.polishAll(std::span<const Hypothesis>(in, np), std::span<Hypothesis>(out, np),
+			       Stage::kSymmetryTurns);
+	// A turn that the polish brought back onto the best keeps its first
+	// comparison: where the body alone pulls it back, the part is not what
+	// told them apart.
+	const double distinctMm =
+		static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
+	size_t moved = 0;
+	Turn raw[kMaxSymmetryRivalsPolished];
+	for (size_t j = 0; j < np; ++j) {
+		if (!out[j].valid || meanPoseDistance(box.model.mesh().vertices, best.pose, out[j].pose) <= distinctMm)
+			continue;
+		Turn &t = *picked[j];
+		raw[moved] = t;
+		t.pose = out[j].pose;
+		t.polished = out[j];
+		picked[moved++] = &t;
+	}
+	compareWithReference(box, std::span<Turn *>(picked, moved));
+	// Each turn is judged as the depth likes it best, polished or not: the
+	// polish gives a rival its chance, and does not hide one the best does
+	// not beat.
+	for (size_t j = 0; j < moved; ++j) {
+		const PartEvidence &p = picked[j]->evidence, &r = raw[j].evidence;
+		if (p.forB - p.forA < r.forB - r.forA)
+			*picked[j] = raw[j];
+	}
 }
 
 Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best, std::span<const Hypothesis>)
@@ -107,6 +198,11 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 		const int64_t start = box.planner.timer().last();
 		const size_t n = compareTurns(box, current.pose, turns);
 		box.planner.observeStage(Stage::kSymmetryTurns, start, true);
+		// The rivals' polish is a polish round of its own (polishFits()):
+		// the stage's cost, and the time a budget keeps for it, is the
+		// comparison's alone.
+		polishRivals(box, current, std::span<Turn>(turns, n));
+		box.planner.timer().resume(Stage::kSymmetryTurns);
 		verdict_.ran = true;
 		verdict_.compared = static_cast<int>(n);
 		verdict_.ambiguous = false;
@@ -136,17 +232,21 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 				verdict_.ambiguous = true; // still a turn ahead when the rounds ran out
 			break;
 		}
-		// The preferred turn replaces the best, polished; then its own turns
-		// are compared with it.
-		Hypothesis h;
-		h.valid = true;
-		h.pose = winner->pose;
-		h.score = box.scorer.score(h.pose);
-		h.origin = current.origin;
-		h.iteration = current.iteration;
+		// The preferred turn replaces the best, polished (unless it was
+		// already); then its own turns are compared with it.
 		Hypothesis polished[1];
-		if (box.config.icp)
-			box.polisher.polishAll(std::span<const Hypothesis>(&h, 1), polished, Stage::kSymmetryTurns);
+		Hypothesis h;
+		if (winner->polished.valid) {
+			h = winner->polished;
+		} else {
+			h.valid = true;
+			h.pose = winner->pose;
+			h.score = box.scorer.score(h.pose);
+			h.origin = current.origin;
+			h.iteration = current.iteration;
+			if (box.config.icp)
+				box.polisher.polishAll(std::span<const Hypothesis>(&h, 1), polished, Stage::kSymmetryTurns);
+		}
 		const Hypothesis &next = polished[0].valid ? polished[0] : h;
 		box.pool.report(next, "symmetry_turn", round);
 		current = next;

@@ -24,6 +24,8 @@ namespace ihf {
 
 // Turns compared per round at most.
 inline constexpr int kMaxSymmetryTurns = 48;
+// Turns polished per round at most.
+inline constexpr int kMaxSymmetryRivalsPolished = 8;
 
 // What the last box's comparison found.
 struct SymmetryVerdict {
@@ -52,10 +54,21 @@ private:
 		Eigen::Vector3d axis;
 		bool distinct = false; // its model points lie more than the confidence's distinct share away
 		PartEvidence evidence; // A: the best, B: the turn
+		Hypothesis polished;   // the turn polished, when it was
 	};
 	// best's turns (at most kMaxSymmetryTurns), each rendered and compared
 	// with best's render; returns how many.
 	static size_t compareTurns(ProposalBox &box, const Pose &best, std::span<Turn> turns);
+	// Each turn rendered and compared with the best's render (the
+	// workspace's reference).
+	static void compareWithReference(ProposalBox &box, std::span<Turn *> turns);
+	// The turns the best does not clearly beat, at most
+	// SymmetryTurnConfig::polishRivals of them, the one the depth prefers
+	// most first, polished and compared again: the turn of a best that is
+	// itself a little off lands as far off the truth, its part beside the
+	// part the sensor sees, and is heard only once polished. A turn keeps
+	// whichever of its two comparisons favours it more.
+	static void polishRivals(ProposalBox &box, const Hypothesis &best, std::span<Turn> turns);
 
 	SymmetryVerdict verdict_;
 };

@@ -10,6 +10,7 @@ struct SymmetryTurnConfig {
 	bool enabled = true;
 	float stepDeg = 15;     // turns tried about a continuous axis
 	int rounds = 3;         // comparisons at most (each after a turn won)
+	int polishRivals = 2;   // turns the best does not clearly beat, polished and compared again
 	int minPixels = 12;     // evidence this many pixels ahead is decisive,
 	float decisiveShare = 0.5f; // and this share of the informative pixels
 	float ambiguousConfidence = 0.5f; // an ambiguous pose's confidence is scaled by this

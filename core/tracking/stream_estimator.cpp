@@ -262,6 +262,8 @@ void StreamEstimator::place(Track &t, const PoseEstimate &e, uint64_t frame, boo
 		t.detectionScore = e.score.score;
 		t.detectionMargin = e.margin;
 		t.confidence = e.confidence;
+		t.ambiguous = e.ambiguous;
+		t.ambiguityAxis = e.ambiguous ? Eigen::Vector3d(e.pose.R.transpose() * e.ambiguityAxis) : Eigen::Vector3d::Zero();
 		t.detectedOnce = true;
 		t.detectedFrame = frame;
 	}
@@ -269,6 +271,17 @@ void StreamEstimator::place(Track &t, const PoseEstimate &e, uint64_t frame, boo
 	t.lastFrame = frame;
 	t.state = TrackState::kTracked;
 	t.waiting = 0;
+}
+
+// A tracked pose is as ambiguous as the detection it follows, about the
+// same axis of the object, and its confidence says so as the detection's did.
+void StreamEstimator::carryAmbiguity(const Track &t, const EstimatorConfig &config, PoseEstimate &e)
+{
+	if (!t.ambiguous)
+		return;
+	e.ambiguous = true;
+	e.ambiguityAxis = (e.pose.R * t.ambiguityAxis).normalized();
+	e.confidence *= config.symmetryTurns.ambiguousConfidence;
 }
 
 void StreamEstimator::trackBox(size_t i, uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
@@ -290,13 +303,16 @@ void StreamEstimator::trackBox(size_t i, uint64_t frame, ImageView<const float> 
 		r.mode = BoxMode::kTrack;
 		r.estimate = refined.estimate;
 		place(t, refined.estimate, frame, true);
+		carryAmbiguity(t, config, r.estimate);
 		++stats_.tracked;
 		return;
 	}
 	++stats_.rejected[static_cast<size_t>(refined.verdict)];
 	// Kept aside: the box's answer should its detection have to wait.
-	if (refined.scored)
+	if (refined.scored) {
 		r.estimate = refined.estimate;
+		carryAmbiguity(t, config, r.estimate);
+	}
 	hasTrackedPose_[i] = refined.scored;
 	needsDetection_[i] = true;
 }

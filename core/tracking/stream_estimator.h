@@ -124,6 +124,8 @@ private:
 	void refreshTracks(uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
 			   std::span<const StreamBox> boxes, const EstimatorConfig &config, std::span<StreamResult> results);
 	void place(Track &t, const PoseEstimate &e, uint64_t frame, bool fromTrack);
+	// e, a pose that follows t, flagged ambiguous as t's detection was.
+	static void carryAmbiguity(const Track &t, const EstimatorConfig &config, PoseEstimate &e);
 	// The frame's time left for detections, less what detections have run
 	// past their share lately.
 	double usableMs() const;

@@ -6,6 +6,8 @@
 
 #include <cstdint>
 
+#include <Eigen/Core>
+
 #include "core/features/cloud_point.h"
 #include "core/geometry/pose.h"
 
@@ -33,6 +35,11 @@ struct Track {
 	float detectionScore = 0;  // the score and margin its pose was detected with
 	float detectionMargin = 0;
 	float confidence = 0;      // of its last detection, or of the tracked pose a refresh confirmed
+	// Its last detection could not tell the pose from a turn of it about
+	// this axis (model frame): the part that tells them apart was hidden.
+	// Following the pose does not tell them apart either.
+	bool ambiguous = false;
+	Eigen::Vector3d ambiguityAxis = Eigen::Vector3d::Zero();
 	bool detectedOnce = false; // a detection has placed it (a re-detection is counted as such)
 	uint64_t detectedFrame = 0; // the frame of its last detection
 	bool matched = false;      // in the current frame

@@ -183,6 +183,10 @@ const KeyDesc kEstimateKeys[] = {
 	E("symmetry_turns", "enabled", estimator.symmetryTurns.enabled, kAny, U,
 	  "a nearly symmetric object's pose compared with its turns about the axes training found, on the pixels "
 	  "where they differ; the pose is flagged ambiguous when the depth cannot tell them apart (not in the paper)"),
+	E("symmetry_turns", "polish_rivals", estimator.symmetryTurns.polishRivals, within(0, kMaxSymmetryRivalsPolished),
+	  X,
+	  "turns the best does not clearly beat, polished before they are compared again (the turn of a pose a little "
+	  "off is as far off)"),
 
 	E("confidence", "distinct_share", estimator.confidence.distinctShare, (Range{0, 1, true}), X,
 	  "a rival is a different pose when its model points lie this far on average, in diameters"),

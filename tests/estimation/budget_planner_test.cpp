@@ -2,7 +2,8 @@
 // The budget planner (core/estimation/budget_planner.h) on a manual clock:
 // a stage never measured is predicted free; a measured one fits only while
 // its cost bound is left in the box's share; a vote pass is refused when it
-// would leave no room for the planned searches and polish rounds; polish
+// would leave no room for the planned searches and polish rounds, and a
+// pass or a search none for the stage kept last; polish
 // and re-search refusals are counted apart from the boxes cut short; a lean
 // box's search is measured apart from the budget's own; forgetting the
 // counts keeps the cost models.
@@ -90,6 +91,37 @@ TEST(BudgetPlanner, APassKeepsRoomForThePlannedSearchesAndPolish)
 	p.plan(5, 2);
 	EXPECT_FALSE(p.passFits(0));
 	EXPECT_EQ(p.counters().budgetStops, 1u);
+}
+
+TEST(BudgetPlanner, PassesAndSearchesKeepRoomForTheStageKeptLast)
+{
+	ManualClock clock;
+	BudgetPlanner p(&clock);
+	p.beginFrame(1, 0.0f); // unlimited: measure
+	p.beginBox();
+	const StageTotals before = p.timer().totals();
+	clock.t += 2 * kMs;
+	p.timer().lap(Stage::kForest);
+	p.observePass(before, true);
+	run(p, clock, Stage::kViews, 3);
+	run(p, clock, Stage::kSymmetryTurns, 4);
+	p.endFrame(p.endBox());
+
+	// 8 ms: a pass (2) and a search (3) fit alone, but not with the
+	// comparison (4) kept after them.
+	p.beginFrame(1, 8.0f);
+	p.beginBox();
+	p.plan(1, 0);
+	EXPECT_TRUE(p.passFits(0));
+	EXPECT_TRUE(p.searchFits(0, 0));
+	p.plan(1, 0, Stage::kSymmetryTurns, 1);
+	EXPECT_FALSE(p.passFits(0));
+	clock.t += 1 * kMs; // 7 ms left: the search and the comparison fit
+	EXPECT_TRUE(p.searchFits(0, 0));
+	clock.t += 1 * kMs; // 6 ms left: the search would leave no room for it
+	EXPECT_FALSE(p.searchFits(0, 0));
+	EXPECT_FALSE(p.researchFits(0, 0));
+	EXPECT_TRUE(p.stageFits(Stage::kSymmetryTurns, 0, false)); // the kept stage itself still fits
 }
 
 TEST(BudgetPlanner, PolishAndResearchRefusalsAreCountedApart)

@@ -4,7 +4,7 @@
 // wall. Seen with its handle to the side, it is placed with the handle
 // right and not flagged; seen with the handle hidden behind its body, the
 // pose comes back flagged ambiguous about the cup's axis, its confidence
-// scaled down.
+// scaled down, and so does every pose that tracks it in the frames after.
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +18,7 @@
 #include "core/geometry/mesh_simplify.h"
 #include "core/render/depth_renderer.h"
 #include "core/synth/household_objects.h"
+#include "core/tracking/stream_estimator.h"
 #include "core/training/hocp_split_metric.h"
 #include "core/training/near_symmetry_finder.h"
 #include "core/training/training_set.h"
@@ -166,6 +167,34 @@ TEST_F(SymmetryTurns, HandleHiddenIsFlaggedAmbiguous)
 	const PoseEstimate plain = estimator.estimate(depth.view(), kKinect, box, *model_, off);
 	ASSERT_TRUE(plain.found);
 	EXPECT_FALSE(plain.ambiguous);
+}
+
+TEST_F(SymmetryTurns, TrackedHiddenHandleStaysAmbiguous)
+{
+	// The hidden-handle view, the cup sliding 2 mm a frame: detected in the
+	// first frame, followed after; every tracked pose carries the flag, about
+	// the cup's axis, its confidence scaled down as the detection's was.
+	PoseEstimator detector;
+	StreamEstimator stream(detector, TrackerConfig{});
+	ASSERT_TRUE(stream.valid());
+	const Pose start = viewOfCup(180.0, 8.0);
+	int trackedFrames = 0;
+	for (int f = 0; f < 4; ++f) {
+		Pose gt = start;
+		gt.t.x() += 2.0 * f;
+		DepthImageMm depth(640, 480, 0.0f);
+		const StreamBox box{31, scene(gt, depth), 0, model_};
+		StreamResult r;
+		stream.estimateFrame(static_cast<uint64_t>(f), depth.view(), kKinect, std::span<const StreamBox>(&box, 1),
+				     EstimatorConfig{}, 0.0f, std::span<StreamResult>(&r, 1));
+		ASSERT_TRUE(r.estimate.found) << "frame " << f << ": " << r.estimate.reason;
+		EXPECT_EQ(r.mode, f == 0 ? BoxMode::kDetect : BoxMode::kTrack) << "frame " << f;
+		trackedFrames += r.mode == BoxMode::kTrack;
+		EXPECT_TRUE(r.estimate.ambiguous) << "frame " << f;
+		EXPECT_GT(std::abs(r.estimate.ambiguityAxis.dot(gt.R.col(2))), 0.97) << "frame " << f;
+		EXPECT_LE(r.estimate.confidence, 0.5f * r.estimate.score.score + 1e-6f) << "frame " << f;
+	}
+	EXPECT_EQ(trackedFrames, 3);
 }
 
 } // namespace

@@ -2,7 +2,8 @@
 // The frame path allocates nothing: 100 frames (the real LM-O frame and a
 // synthetic two-object render, alternating), each with several boxes of two
 // objects, run through PoseEstimator::estimate (virtual crop, initial
-// registration, k = 2 refinement iterations, ICP; half the frames under a
+// registration, k = 2 refinement iterations, ICP, one object's comparison
+// with its turns about a near-symmetry; half the frames under a
 // frame budget so that the cut-short paths run too, and bad boxes for the
 // "no pose" paths) while every heap allocation of the process is counted
 // (alloc_interpose.h) and Eigen's malloc is forbidden. The frame-path
@@ -20,7 +21,9 @@
 
 #include "core/dataset/bop_dataset.h"
 #include "core/estimation/pose_estimator.h"
+#include "core/geometry/mesh.h"
 #include "core/geometry/rotation.h"
+#include "core/model/near_symmetry.h"
 #include "core/tracking/stream_estimator.h"
 #include "core/training/view_template_builder.h"
 #include "core/features/part_extractor.h"
@@ -182,6 +185,13 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 		ASSERT_TRUE(pts.ok());
 		m->attachViewTemplates(60, 64, std::move(*pts));
 	}
+	// The duck taken as nearly symmetric under a half-turn about its z axis,
+	// so that its boxes also compare their turns and polish the rivals.
+	NearSymmetry halfTurn;
+	halfTurn.point = boundingBox(duck.model->mesh()).centre();
+	halfTurn.turnDeg = 180;
+	halfTurn.differingShare = 0.1f;
+	duck.model->setNearSymmetries({halfTurn});
 
 	// The real frame.
 	auto dataset = BopDataset::open(test::lmoDir(), "test");
@@ -290,6 +300,7 @@ TEST(ZeroAllocation, HundredFramesThroughTheFullEstimatePath)
 	EXPECT_GE(s.iterations, static_cast<uint64_t>(kFrames));
 	EXPECT_GT(s.stages[static_cast<int>(Stage::kViews)].calls, 0u);
 	EXPECT_GT(s.stages[static_cast<int>(Stage::kHalfTurns)].calls, 0u);
+	EXPECT_GT(s.stages[static_cast<int>(Stage::kSymmetryTurns)].calls, 0u);
 	// A budgeted frame's first box has a third of 60 ms: the tight profile.
 	EXPECT_GT(s.tightBoxes, 0u);
 	std::printf("frames %d, boxes found %d, no pose %d, budget stops %d, arena used %zu of %zu bytes\n",
