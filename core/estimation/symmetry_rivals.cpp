@@ -13,11 +13,9 @@ namespace ihf {
 
 namespace {
 
-// Mean distance (mm) the model points move under a turn about (axis, point):
-// how far apart the evaluation puts a pose and its turn. At most 64 points,
-// evenly strided.
-double meanTurnDistance(std::span<const Eigen::Vector3f> vertices, const Eigen::Matrix3d &turn,
-			const Eigen::Vector3d &point)
+// Mean over at most 64 model points, evenly strided, of distance(x).
+template <class Distance>
+double meanOverModelPoints(std::span<const Eigen::Vector3f> vertices, Distance distance)
 {
 	if (vertices.empty())
 		return 0;
@@ -25,27 +23,28 @@ double meanTurnDistance(std::span<const Eigen::Vector3f> vertices, const Eigen::
 	double sum = 0;
 	int n = 0;
 	for (size_t i = 0; i < vertices.size(); i += stride) {
-		const Eigen::Vector3d x = vertices[i].cast<double>();
-		sum += (turn * (x - point) + point - x).norm();
+		sum += distance(vertices[i].cast<double>());
 		++n;
 	}
 	return sum / n;
 }
 
+// Mean distance (mm) the model points move under a turn about (axis, point):
+// how far apart the evaluation puts a pose and its turn.
+double meanTurnDistance(std::span<const Eigen::Vector3f> vertices, const Eigen::Matrix3d &turn,
+			const Eigen::Vector3d &point)
+{
+	return meanOverModelPoints(vertices, [&](const Eigen::Vector3d &x) {
+		return (turn * (x - point) + point - x).norm();
+	});
+}
+
 // Mean distance (mm) between the model points placed by a and by b.
 double meanPoseDistance(std::span<const Eigen::Vector3f> vertices, const Pose &a, const Pose &b)
 {
-	if (vertices.empty())
-		return 0;
-	const size_t stride = std::max<size_t>(1, vertices.size() / 64);
-	double sum = 0;
-	int n = 0;
-	for (size_t i = 0; i < vertices.size(); i += stride) {
-		const Eigen::Vector3d x = vertices[i].cast<double>();
-		sum += ((a.R * x + a.t) - (b.R * x + b.t)).norm();
-		++n;
-	}
-	return sum / n;
+	return meanOverModelPoints(vertices, [&](const Eigen::Vector3d &x) {
+		return ((a.R * x + a.t) - (b.R * x + b.t)).norm();
+	});
 }
 
 bool decisive(int ahead, int behind, int informative, const SymmetryTurnConfig &c)
