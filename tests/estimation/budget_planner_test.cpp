@@ -8,6 +8,9 @@
 // box's search is measured apart from the budget's own; forgetting the
 // counts keeps the cost models.
 
+#include <initializer_list>
+#include <utility>
+
 #include <gtest/gtest.h>
 
 #include "core/estimation/budget_planner.h"
@@ -35,6 +38,21 @@ void run(BudgetPlanner &p, ManualClock &clock, Stage stage, int64_t ms)
 		p.observePolish(start);
 	else
 		p.observeStage(stage, start, false);
+}
+
+// An unlimited frame that measures one box: a 2 ms vote pass, then each
+// (stage, ms) run in turn.
+void measureABox(BudgetPlanner &p, ManualClock &clock, std::initializer_list<std::pair<Stage, int64_t>> runs)
+{
+	p.beginFrame(1, 0.0f); // unlimited: measure
+	p.beginBox();
+	const StageTotals before = p.timer().totals();
+	clock.t += 2 * kMs;
+	p.timer().lap(Stage::kForest);
+	p.observePass(before, true);
+	for (const auto &[stage, ms] : runs)
+		run(p, clock, stage, ms);
+	p.endFrame(p.endBox());
 }
 
 TEST(BudgetPlanner, AStageNeverMeasuredIsPredictedFree)
@@ -71,15 +89,7 @@ TEST(BudgetPlanner, APassKeepsRoomForThePlannedSearchesAndPolish)
 {
 	ManualClock clock;
 	BudgetPlanner p(&clock);
-	p.beginFrame(1, 0.0f); // unlimited: measure
-	p.beginBox();
-	const StageTotals before = p.timer().totals();
-	clock.t += 2 * kMs;
-	p.timer().lap(Stage::kForest);
-	p.observePass(before, true);
-	run(p, clock, Stage::kViews, 3);
-	run(p, clock, Stage::kIcp, 1);
-	p.endFrame(p.endBox());
+	measureABox(p, clock, {{Stage::kViews, 3}, {Stage::kIcp, 1}});
 	EXPECT_EQ(p.counters().iterations, 1u);
 
 	// 12 ms: a pass (2) fits alone, and with two searches (6) and two
@@ -97,15 +107,7 @@ TEST(BudgetPlanner, PassesAndSearchesKeepRoomForTheStageKeptLast)
 {
 	ManualClock clock;
 	BudgetPlanner p(&clock);
-	p.beginFrame(1, 0.0f); // unlimited: measure
-	p.beginBox();
-	const StageTotals before = p.timer().totals();
-	clock.t += 2 * kMs;
-	p.timer().lap(Stage::kForest);
-	p.observePass(before, true);
-	run(p, clock, Stage::kViews, 3);
-	run(p, clock, Stage::kSymmetryTurns, 4);
-	p.endFrame(p.endBox());
+	measureABox(p, clock, {{Stage::kViews, 3}, {Stage::kSymmetryTurns, 4}});
 
 	// 8 ms: a pass (2) and a search (3) fit alone, but not with the
 	// comparison (4) kept after them.
