@@ -128,24 +128,19 @@ void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best,
 		return;
 	// The turns the best does not clearly beat, the one the depth prefers
 	// most first.
+	Turn *undecided[kMaxSymmetryTurns];
+	size_t nu = 0;
+	for (Turn &t : turns)
+		if (!decisive(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg))
+			undecided[nu++] = &t;
+	const auto ahead = [](const Turn *u) { return u->evidence.forB - u->evidence.forA; };
+	// Ties keep the turns' order (std::sort, not stable_sort: that one may allocate).
+	std::sort(undecided, undecided + nu, [&](const Turn *a, const Turn *b) {
+		return ahead(a) != ahead(b) ? ahead(a) > ahead(b) : a < b;
+	});
 	Turn *picked[kMaxSymmetryRivalsPolished];
-	size_t np = 0;
-	const size_t wanted = static_cast<size_t>(std::min(cfg.polishRivals, kMaxSymmetryRivalsPolished));
-	for (Turn &t : turns) {
-		const PartEvidence &e = t.evidence;
-		if (decisive(e.forA, e.forB, e.informative, cfg))
-			continue;
-		const auto ahead = [](const Turn *u) { return u->evidence.forB - u->evidence.forA; };
-		size_t at = np;
-		while (at > 0 && ahead(picked[at - 1]) < ahead(&t))
-			--at;
-		if (at >= wanted)
-			continue;
-		np = std::min(np + 1, wanted);
-		for (size_t j = np - 1; j > at; --j)
-			picked[j] = picked[j - 1];
-		picked[at] = &t;
-	}
+	const size_t np = std::min(nu, static_cast<size_t>(std::min(cfg.polishRivals, kMaxSymmetryRivalsPolished)));
+	std::copy_n(undecided, np, picked);
 	if (np == 0)
 		return;
 	Hypothesis in[kMaxSymmetryRivalsPolished], out[kMaxSymmetryRivalsPolished];
