@@ -52,11 +52,6 @@ function(ihf_enable_pch)
     if(pic OR "${opts}" MATCHES "UNDEBUG" OR "${defs}" MATCHES "EIGEN_")
       continue()
     endif()
-    # Objects of a target that links the no-malloc frame path: own flags.
-    get_target_property(srcs ${t} SOURCES)
-    if("${srcs}" MATCHES "TARGET_OBJECTS")
-      continue()
-    endif()
     # The headers must also be reachable as text (GCC's fallback).
     target_include_directories(${t} SYSTEM PRIVATE
       $<TARGET_PROPERTY:Eigen3::Eigen,INTERFACE_INCLUDE_DIRECTORIES>)

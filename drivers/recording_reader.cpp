@@ -11,17 +11,14 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include "core/common/errno_text.h"
+
 namespace ihf {
 
 namespace fs = std::filesystem;
 using namespace recording;
 
 namespace {
-
-std::string errnoText(int err)
-{
-	return std::error_code(err, std::generic_category()).message();
-}
 
 } // namespace
 

@@ -10,6 +10,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include "core/common/errno_text.h"
 #include "core/common/special_file.h"
 
 namespace ihf {
@@ -18,11 +19,6 @@ namespace fs = std::filesystem;
 using namespace recording;
 
 namespace {
-
-std::string errnoText(int err)
-{
-	return std::error_code(err, std::generic_category()).message();
-}
 
 } // namespace
 

@@ -83,7 +83,7 @@ fi
 cmake -S "$root" -B "$build" -G Ninja \
 	-DCMAKE_TOOLCHAIN_FILE="$here/$triple.cmake" \
 	-DIHF_CROSS_SYSROOT="$sysroot" \
-	-DCMAKE_BUILD_TYPE=Release \
+	-DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON \
 	-DIHF_SHARED_DIR="${IHF_SHARED_DIR:-$(dirname "$root")/shared}" \
 	-DIHF_WITH_OPENNI2=OFF -DIHF_WITH_CAIRO=OFF -DIHF_BUILD_BENCHMARKS=OFF >/dev/null
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # The sanitizer lane: builds the debug preset (clang, AddressSanitizer +
-# UBSan at -O1, build-debug/, no benchmarks; the same build holds the fuzz
+# UBSan at -O2, build-debug/, no benchmarks; the same build holds the fuzz
 # harnesses of tests/fuzz/run.sh) and runs every test under it (ctest
 # --preset debug: LeakSanitizer on, any UBSan report fails its test). The
 # V4L2 vivid VM check is not in this build: the program it boots is linked

@@ -11,16 +11,13 @@
 
 #include <unistd.h>
 
+#include "core/common/errno_text.h"
+
 namespace ihf {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string errnoText(int err)
-{
-	return std::error_code(err, std::generic_category()).message();
-}
 
 // Removes the temporary file unless released, so every early return cleans up.
 class TempGuard

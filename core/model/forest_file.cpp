@@ -21,6 +21,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "core/common/errno_text.h"
 #include "core/features/hocp.h"
 #include "core/model/forest_file_format.h"
 #include "core/model/model_params_json.h"
@@ -31,11 +32,6 @@ namespace fs = std::filesystem;
 using namespace forestfile;
 
 namespace {
-
-std::string errnoText(int err)
-{
-	return std::error_code(err, std::generic_category()).message();
-}
 
 std::string hex32(uint32_t v)
 {

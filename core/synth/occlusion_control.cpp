@@ -83,13 +83,6 @@ int OcclusionMeter::count(const std::vector<uint8_t> &mask)
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
-double logUniform(SynthRandom &rng, double lo, double hi)
-{
-	return std::exp(rng.uniform(std::log(lo), std::log(hi)));
-}
-
 Expected<double> truncationAt(SceneRenderer &renderer, const SceneLayout &layout)
 {
 	auto sil = renderer.silhouette(layout.objects[0], layout.view.worldToCamera);
@@ -117,7 +110,7 @@ Status OcclusionController::placeTruncation(SceneLayout &layout, const Occlusion
 	if (wanted > 0) {
 		// Slide the target towards a random border until the border cuts
 		// off the wanted share (grows monotonically along the slide).
-		const double a = rng.uniform(0, 2 * kPi);
+		const double a = rng.uniform(0, 2 * std::numbers::pi);
 		const Eigen::Vector2d dir(std::cos(a), std::sin(a));
 		const double reach = 0.5 * std::hypot(K.width, K.height) +
 				     0.5 * sampler_.library().model(layout.objects[0].objId).diameter *
@@ -180,13 +173,13 @@ Expected<bool> OcclusionController::addOccluder(SceneLayout &layout, OcclusionMe
 	const double kind = rng.uniform01();
 	const double aimHeight = target.height * rng.uniform(0.3, 1.0);
 	const double widthShare = rng.uniform(0.5, 1.3);
-	const double depth = logUniform(rng, 30, 150);
+	const double depth = rng.logUniform(30, 150);
 	const double yawJitter = rng.uniform(-0.35, 0.35);
 	const double heightGain = rng.uniform(0.9, 1.3);
 	const bool dark = rng.chance(sampler_.params().darkProbability);
 	const double dropout = dark ? rng.uniform(0.6, 1.0) : 0.0;
 	const int meshId = others.empty() ? 0 : others[rng.below(others.size())];
-	const double meshYaw = rng.uniform(0, 2 * kPi);
+	const double meshYaw = rng.uniform(0, 2 * std::numbers::pi);
 
 	// An occluder of a given scale: tall enough that the sight line from
 	// the camera to a point aimHeight up the target passes below its top.
@@ -327,7 +320,7 @@ Expected<OcclusionOutcome> OcclusionController::apply(SceneLayout &layout,
 		SceneObject obj = layout.objects[worst];
 		bool moved = false;
 		for (int attempt = 0; attempt < 6 && !moved; ++attempt) {
-			const double a = rng.uniform(0, 2 * kPi);
+			const double a = rng.uniform(0, 2 * std::numbers::pi);
 			const Eigen::Vector2d dir(std::cos(a), std::sin(a));
 			const double near = sampler_.clearDistance(layout, obj, dir, {0, 0}, 5.0);
 			const double d = rng.uniform(near, near + sampler_.params().clutterRadius);

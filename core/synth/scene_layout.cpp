@@ -18,11 +18,6 @@ constexpr double kPi = std::numbers::pi;
 
 double deg(double d) { return d * kPi / 180.0; }
 
-double logUniform(SynthRandom &rng, double lo, double hi)
-{
-	return std::exp(rng.uniform(std::log(lo), std::log(hi)));
-}
-
 Eigen::Matrix3d yawMatrix(double yaw)
 {
 	return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
@@ -98,22 +93,22 @@ PlaceableModel randomPrimitive(SynthRandom &rng, double scale)
 	// of a call's arguments is up to the compiler, and a seed must give the
 	// same scene whoever built ihf.
 	if (u < 0.3) {
-		const double d = logUniform(rng, 20 * s, 260 * s), h = logUniform(rng, 30 * s, 220 * s);
-		return primitiveModel(makeBox(logUniform(rng, 30 * s, 220 * s), h, d));
+		const double d = rng.logUniform(20 * s, 260 * s), h = rng.logUniform(30 * s, 220 * s);
+		return primitiveModel(makeBox(rng.logUniform(30 * s, 220 * s), h, d));
 	}
 	if (u < 0.42) { // books, boxes lying flat, a tray
-		const double d = logUniform(rng, 5 * s, 45 * s), h = logUniform(rng, 80 * s, 250 * s);
-		return primitiveModel(makeBox(logUniform(rng, 100 * s, 320 * s), h, d));
+		const double d = rng.logUniform(5 * s, 45 * s), h = rng.logUniform(80 * s, 250 * s);
+		return primitiveModel(makeBox(rng.logUniform(100 * s, 320 * s), h, d));
 	}
 	if (u < 0.7) {
-		const double length = logUniform(rng, 30 * s, 250 * s);
-		return primitiveModel(makeCylinder(logUniform(rng, 15 * s, 70 * s), length));
+		const double length = rng.logUniform(30 * s, 250 * s);
+		return primitiveModel(makeCylinder(rng.logUniform(15 * s, 70 * s), length));
 	}
 	if (u < 0.85) {
-		const double length = logUniform(rng, 60 * s, 250 * s);
-		return primitiveModel(makeLyingCylinder(logUniform(rng, 15 * s, 50 * s), length));
+		const double length = rng.logUniform(60 * s, 250 * s);
+		return primitiveModel(makeLyingCylinder(rng.logUniform(15 * s, 50 * s), length));
 	}
-	return primitiveModel(makeSphere(logUniform(rng, 15 * s, 70 * s)));
+	return primitiveModel(makeSphere(rng.logUniform(15 * s, 70 * s)));
 }
 
 SceneLayout LayoutSampler::sampleBase(int targetId, SynthRandom &rng, double elevationCapDeg) const
@@ -271,8 +266,8 @@ void LayoutSampler::addClutter(SceneLayout &layout, const std::vector<int> &excl
 		} else if (kind < 0.75) {
 			model = randomPrimitive(rng);
 		} else {
-			const double d = logUniform(rng, 80, 350), h = logUniform(rng, 150, 450);
-			model = primitiveModel(makeBox(logUniform(rng, 150, 450), h, d));
+			const double d = rng.logUniform(80, 350), h = rng.logUniform(150, 450);
+			model = primitiveModel(makeBox(rng.logUniform(150, 450), h, d));
 			big = true;
 		}
 		const int rest = model.objId > 0 && rng.chance(params_.uprightProbability)

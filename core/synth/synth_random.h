@@ -7,6 +7,7 @@
 // implementation-defined), so one seed gives the same scenes on every
 // standard library.
 
+#include <cmath>
 #include <cstdint>
 #include <random>
 
@@ -32,6 +33,8 @@ public:
 	uint64_t below(uint64_t n);
 	int uniformInt(int lo, int hi) { return lo + static_cast<int>(below(static_cast<uint64_t>(hi - lo) + 1)); }
 	bool chance(double p) { return uniform01() < p; }
+	// exp of a uniform draw in [log lo, log hi): as likely in every octave.
+	double logUniform(double lo, double hi) { return std::exp(uniform(std::log(lo), std::log(hi))); }
 	// Standard normal by Box-Muller (both values of a pair are used).
 	double normal();
 	double normal(double mean, double sigma) { return mean + sigma * normal(); }

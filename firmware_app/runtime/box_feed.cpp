@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/common/errno_text.h"
+
 namespace ihf::app {
 
 namespace {
@@ -22,7 +24,6 @@ constexpr size_t kLineCapacity = 1 << 16; // longest line accepted
 constexpr double kMaxBoxCoordinate = 1e6; // pixels; frames are at most 16384 wide
 constexpr size_t kReservedBoxes = 64;
 
-std::string errnoText(int err) { return std::strerror(err); }
 
 } // namespace
 

@@ -15,6 +15,8 @@ inline std::filesystem::path sharedDir() { return IHF_SHARED_DIR; }
 inline std::filesystem::path lmoDir() { return sharedDir() / "data" / "lmo"; }
 inline std::filesystem::path sourceDir() { return IHF_SOURCE_DIR; }
 inline std::filesystem::path ihfBinary() { return IHF_BINARY; }
+// The runtime tests' forest, written on amd64 (tests/data).
+inline std::filesystem::path goldenForest() { return sourceDir() / "tests" / "data" / "golden_forest_amd64.ihf"; }
 
 // A fresh, empty folder under the system temp dir for one test. The
 // process id keeps parallel processes apart (ctest -j runs the cases of one

@@ -14,8 +14,6 @@
 namespace ihf::app {
 namespace {
 
-const std::filesystem::path kForest = test::sourceDir() / "tests" / "data" / "golden_forest_amd64.ihf";
-
 TEST(ForestSet, OptionsAreObjectIdEqualsFile)
 {
 	auto parsed = parseForestOptions({"5=a.ihf", "12=/b/c.ihf"});
@@ -42,7 +40,7 @@ TEST(ForestSet, LoadsPreparesAndSizesTheLimits)
 	EstimateSettings settings;
 	settings.limits.maxHistogramDims = 1;
 	settings.limits.maxMeshVertices = 1;
-	auto set = ForestSet::load({{7, kForest}}, settings, "test");
+	auto set = ForestSet::load({{7, test::goldenForest()}}, settings, "test");
 	ASSERT_TRUE(set) << set.error().message;
 	ASSERT_NE(set->find(7), nullptr);
 	EXPECT_EQ(set->find(8), nullptr);
@@ -62,7 +60,7 @@ TEST(ForestSet, AMissingOrBadFileIsRefusedByName)
 
 	const std::filesystem::path bad = std::filesystem::temp_directory_path() / "ihf_bad_forest.ihf";
 	std::ofstream(bad) << "not a forest";
-	set = ForestSet::load({{1, kForest}, {2, bad}}, settings, "test");
+	set = ForestSet::load({{1, test::goldenForest()}, {2, bad}}, settings, "test");
 	ASSERT_FALSE(set);
 	EXPECT_NE(set.error().message.find("ihf_bad_forest.ihf"), std::string::npos) << set.error().message;
 	std::filesystem::remove(bad);

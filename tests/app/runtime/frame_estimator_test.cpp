@@ -15,7 +15,6 @@
 namespace ihf::app {
 namespace {
 
-const std::filesystem::path kForest = test::sourceDir() / "tests" / "data" / "golden_forest_amd64.ihf";
 constexpr int kObject = 7;
 
 struct Answer {
@@ -48,7 +47,7 @@ struct Wall {
 std::unique_ptr<PosePipeline> pipeline(EstimateSettings &settings, const TrackerConfig *tracking, PacingClock &clock)
 {
 	settings.estimator.iterations = 0;
-	auto p = PosePipeline::create({{kObject, kForest}}, settings, tracking, clock, "test");
+	auto p = PosePipeline::create({{kObject, test::goldenForest()}}, settings, tracking, clock, "test");
 	EXPECT_TRUE(p) << (p ? "" : p.error().message);
 	return p ? std::move(p.value()) : nullptr;
 }

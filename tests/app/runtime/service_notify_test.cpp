@@ -29,7 +29,7 @@ namespace ihf::app {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr int64_t kMs = 1'000'000;
+constexpr int64_t kOneMs = 1'000'000;
 
 // Simulated time; sleeping jumps to the deadline.
 class JumpClock : public PacingClock
@@ -91,8 +91,8 @@ TEST(LoopHeartbeat, EveryIterationAndThroughTheReopenWaits)
 	// Beats all through the waits, never more than a 50 ms slice apart.
 	ASSERT_GE(beats.times.size(), 3u * 8u);
 	for (size_t i = 1; i < beats.times.size(); ++i)
-		EXPECT_LE(beats.times[i] - beats.times[i - 1], 50 * kMs) << "beat " << i;
-	EXPECT_GE(beats.times.back(), 1200 * kMs - 50 * kMs);
+		EXPECT_LE(beats.times[i] - beats.times[i - 1], 50 * kOneMs) << "beat " << i;
+	EXPECT_GE(beats.times.back(), 1200 * kOneMs - 50 * kOneMs);
 }
 
 TEST(LoopHeartbeat, OneBeatPerFrameAtLeast)
