@@ -6,10 +6,11 @@
 // with its turns about a near-symmetry; half the frames under a
 // frame budget so that the cut-short paths run too, and bad boxes for the
 // "no pose" paths) while every heap allocation of the process is counted
-// (alloc_interpose.h) and Eigen's malloc is forbidden. The frame-path
-// sources are compiled into this executable with EIGEN_RUNTIME_NO_MALLOC and
-// assertions on (tests/runtime/CMakeLists.txt), so a hidden Eigen heap
-// allocation aborts the test. Self-checks prove both tripwires fire.
+// (alloc_interpose.h) and Eigen's malloc is forbidden. The count covers the
+// libraries as they ship. In the sanitizer build every source has
+// EIGEN_RUNTIME_NO_MALLOC and assertions on (CMakeLists.txt), so there a
+// hidden Eigen heap allocation aborts at the line that made it. Self-checks
+// prove both tripwires fire.
 
 #include <cmath>
 #include <type_traits>
