@@ -18,10 +18,6 @@ namespace ihf {
 namespace fs = std::filesystem;
 using namespace recording;
 
-namespace {
-
-} // namespace
-
 RecordingReader::RecordingReader(RecordingReader &&other) noexcept
 {
 	*this = std::move(other);

@@ -18,10 +18,6 @@ namespace ihf {
 namespace fs = std::filesystem;
 using namespace recording;
 
-namespace {
-
-} // namespace
-
 Expected<RecordingWriter> RecordingWriter::create(const fs::path &file,
 						  const RecordingHeader &header,
 						  const RecordingWriterOptions &options)

@@ -24,7 +24,6 @@ constexpr size_t kLineCapacity = 1 << 16; // longest line accepted
 constexpr double kMaxBoxCoordinate = 1e6; // pixels; frames are at most 16384 wide
 constexpr size_t kReservedBoxes = 64;
 
-
 } // namespace
 
 Expected<std::unique_ptr<BoxFeed>> BoxFeed::open(const std::string &spec, ShutdownSignal *shutdown)

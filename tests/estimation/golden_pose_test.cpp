@@ -56,7 +56,6 @@ constexpr double kTargetToleranceMm = 0.1;
 #endif
 
 fs::path dataDir() { return test::sourceDir() / "tests" / "data"; }
-fs::path forestFile() { return dataDir() / "golden_forest_amd64.ihf"; }
 fs::path frameFile() { return dataDir() / "golden_frame.png"; }
 fs::path posesFile() { return dataDir() / "golden_poses_amd64.txt"; }
 
@@ -202,7 +201,7 @@ TEST(GoldenPose, Amd64ForestAndFrameGiveTheAmd64Poses)
 #endif
 		const test::SmallModel m = test::trainSmallModel(1, 11, 20, 2);
 		ASSERT_TRUE(m.model);
-		ASSERT_TRUE(saveModelFile(forestFile(), m.model->params(), m.model->mesh(),
+		ASSERT_TRUE(saveModelFile(test::goldenForest(), m.model->params(), m.model->mesh(),
 					  m.model->forest())
 				    .ok());
 		DepthImage16 raw;
@@ -225,7 +224,7 @@ TEST(GoldenPose, Amd64ForestAndFrameGiveTheAmd64Poses)
 		ASSERT_EQ(golden.size(), 2u);
 	}
 
-	auto model = loadModelFile(forestFile());
+	auto model = loadModelFile(test::goldenForest());
 	ASSERT_TRUE(model.ok()) << model.error().message;
 	auto raw = readDepthPng(frameFile());
 	ASSERT_TRUE(raw.ok()) << raw.error().message;
