@@ -6,21 +6,75 @@
 // the true pose; the part's pixels are those where the object is drawn in
 // front of its body (or the body not at all), and of them the visible ones
 // those where the scene's depth lies within 10 mm of the object's render.
-// One JSON line per instance: scene_id, im_id, obj_id, part_px, visible_px.
+// Whether the depth can tell the truth from its rivals: the true pose is
+// turned about each of the object's near-symmetries (found as training
+// finds them; every 15 deg about a continuous axis, both ways round about a
+// discrete one), and for each turn that the evaluation counts as another
+// pose (its model points lie more than 0.1 diameters away) the pixels where
+// the two renders differ and the sensor sees (the scene's depth there is
+// not in front of both by more than 10 mm) are counted; rival_px is the
+// fewest over the turns (-1: no such turn). Few such pixels: no depth can
+// tell the two apart.
+// One JSON line per instance: scene_id, im_id, obj_id, part_px, visible_px,
+// rival_px.
 //
 //   part_visibility DATASET BODIES OUT.jsonl
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
+#include <numbers>
+#include <vector>
+
+#include <Eigen/Geometry>
 
 #include "core/dataset/bop_dataset.h"
 #include "core/geometry/ply_loader.h"
 #include "core/render/depth_renderer.h"
 #include "core/runtime/arena.h"
+#include "core/training/near_symmetry_finder.h"
 
 namespace fs = std::filesystem;
 using namespace ihf;
+
+namespace {
+
+constexpr float kToleranceMm = 10.0f;
+
+// The true pose's rivals: turned about each near-symmetry, as the estimator
+// turns a pose (core/estimation/symmetry_rivals.cpp), those the evaluation
+// counts as other poses.
+std::vector<Pose> rivalsOf(const Pose &truth, const Mesh &mesh, const std::vector<NearSymmetry> &symmetries)
+{
+	const double diameter = meshDiameter(mesh);
+	std::vector<Pose> out;
+	auto add = [&](const NearSymmetry &s, double deg) {
+		const Eigen::Matrix3d turn =
+			Eigen::AngleAxisd(deg * std::numbers::pi / 180.0, s.axis.cast<double>()).toRotationMatrix();
+		const Eigen::Vector3d c = s.point.cast<double>();
+		double moved = 0;
+		for (const Eigen::Vector3f &v : mesh.vertices)
+			moved += (turn * (v.cast<double>() - c) + c - v.cast<double>()).norm();
+		if (moved / static_cast<double>(std::max<size_t>(mesh.vertices.size(), 1)) <= 0.1 * diameter)
+			return;
+		out.push_back({truth.R * turn, truth.R * (c - turn * c) + truth.t});
+	};
+	for (const NearSymmetry &s : symmetries) {
+		if (s.continuous()) {
+			for (int k = 1; k < 24; ++k)
+				add(s, 15.0 * k);
+		} else {
+			add(s, s.turnDeg);
+			if (std::abs(s.turnDeg - 180.0f) > 1e-3f)
+				add(s, -s.turnDeg);
+		}
+	}
+	return out;
+}
+
+} // namespace
 
 int main(int argc, char **argv)
 {
@@ -43,6 +97,7 @@ int main(int argc, char **argv)
 	DepthRenderer renderer;
 	if (!renderer.reserve(kMaxVertices, *arena).ok())
 		return 1;
+	std::map<int, std::vector<NearSymmetry>> symmetries;
 	for (int sceneId : ds->sceneIds()) {
 		auto scene = ds->loadScene(sceneId);
 		if (!scene) {
@@ -76,10 +131,32 @@ int main(int argc, char **argv)
 							continue;
 						++partPx;
 						const float o = depth->at(x, y);
-						visiblePx += o > 0 && std::abs(o - za) <= 10.0f;
+						visiblePx += o > 0 && std::abs(o - za) <= kToleranceMm;
 					}
-				std::fprintf(out, "{\"scene_id\":%d,\"im_id\":%d,\"obj_id\":%d,\"part_px\":%d,\"visible_px\":%d}\n",
-					     sceneId, imId, g.objId, partPx, visiblePx);
+				if (!symmetries.count(g.objId))
+					symmetries[g.objId] = findNearSymmetries(*whole);
+				int rivalPx = -1;
+				for (const Pose &rival : rivalsOf(g.pose, *whole, symmetries[g.objId])) {
+					DepthImageMm r(K.width, K.height, 0.0f);
+					if (!renderer.render(*whole, rival, K, r.view()))
+						return 1;
+					int seen = 0;
+					for (int y = 0; y < K.height; ++y)
+						for (int x = 0; x < K.width; ++x) {
+							const float za = a.at(x, y), zr = r.at(x, y);
+							const bool da = za > 0, dr = zr > 0;
+							if (da == dr && (!da || std::abs(za - zr) <= kToleranceMm))
+								continue;
+							const float o = depth->at(x, y);
+							const float front = da && dr ? std::min(za, zr) : (da ? za : zr);
+							seen += o > 0 && o >= front - kToleranceMm;
+						}
+					rivalPx = rivalPx < 0 ? seen : std::min(rivalPx, seen);
+				}
+				std::fprintf(out,
+					     "{\"scene_id\":%d,\"im_id\":%d,\"obj_id\":%d,\"part_px\":%d,\"visible_px\":%d,"
+					     "\"rival_px\":%d}\n",
+					     sceneId, imId, g.objId, partPx, visiblePx, rivalPx);
 			}
 		}
 	}

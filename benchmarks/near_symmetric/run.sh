@@ -13,7 +13,7 @@
 #
 # Steps whose output exists are skipped, so a run can be resumed. The budgeted
 # run is timed: run it on an idle machine. Needs build/bin/ihf and
-# build/benchmarks/part_visibility.
+# build/bin/part_visibility.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 ihf="$root/build/bin/ihf"
@@ -39,7 +39,7 @@ for id in 31 32 33; do
 	forests+=(--forest "$id=$f")
 done
 
-"$root/build/benchmarks/part_visibility" "$out/syn" "$out/bodies" "$out/results/visibility.jsonl"
+"$root/build/bin/part_visibility" "$out/syn" "$out/bodies" "$out/results/visibility.jsonl"
 
 for budget in 0 33; do
 	r="$out/results/b$budget"

@@ -4,8 +4,13 @@
 # a results CSV split by the part's visibility at the true pose
 # (part_visibility's JSON lines): "visible" (at least half of the part's
 # pixels seen, and at least 20), "hidden" (fewer than 5 seen), "partly"
-# (the rest). For each: boxes, right at ADD <= 0.1 d, and the share the
-# estimate flagged ambiguous (ihf estimate --stats-json's ambiguous_poses).
+# (the rest). The hidden ones are split again by whether the depth can
+# tell the truth from its nearest rival turn (part_visibility's rival_px:
+# at least 10 pixels seen where the two differ): "hidden, told" (the part's
+# absence shows: a camera's lens turned away, which its rival would show)
+# and "hidden, alike" (no depth could tell: the pose should be flagged).
+# For each: boxes, right at ADD <= 0.1 d, and the share the estimate
+# flagged ambiguous (ihf estimate --stats-json's ambiguous_poses).
 #
 #   split.py DATASET RESULTS.csv VISIBILITY.jsonl STATS.json
 import csv, json, math, os, struct, sys
@@ -72,11 +77,15 @@ for line in open(visibility):
         (Re, te), (Rg, tg) = est[key], gt[key]
         add = sum(math.dist(apply(Re, te, x), apply(Rg, tg, x)) for x in points(key[2])) / len(points(key[2]))
         right = add <= 0.1 * info[str(key[2])]['diameter']
-    s = table.setdefault((key[2], kind), [0, 0, 0])
-    s[0] += 1
-    s[1] += right
-    s[2] += key in ambiguous
+    kinds = [kind]
+    if kind == 'hidden' and 'rival_px' in v:
+        kinds.append('hidden, told' if v['rival_px'] >= 10 else 'hidden, alike')
+    for k in kinds:
+        s = table.setdefault((key[2], k), [0, 0, 0])
+        s[0] += 1
+        s[1] += right
+        s[2] += key in ambiguous
 
-print('%-6s %-8s %6s %14s %14s' % ('object', 'part', 'boxes', 'ADD-0.1d', 'ambiguous'))
+print('%-6s %-13s %6s %14s %14s' % ('object', 'part', 'boxes', 'ADD-0.1d', 'ambiguous'))
 for (obj, kind), (n, right, amb) in sorted(table.items()):
-    print('%-6d %-8s %6d %7d (%.3f) %7d (%.3f)' % (obj, kind, n, right, right / n, amb, amb / n))
+    print('%-6d %-13s %6d %7d (%.3f) %7d (%.3f)' % (obj, kind, n, right, right / n, amb, amb / n))

@@ -63,6 +63,7 @@ NearSymmetry decodeNearSymmetry(const std::byte *in)
 	}
 	s.turnDeg = getF32(in + 24);
 	s.differingShare = getF32(in + 28);
+	s.alikeViews = -1; // not stored
 	return s;
 }
 

@@ -112,7 +112,7 @@ std::string formatForestFileSummary(const ForestFileSummary &s)
 	if (s.nearSymmetries.empty()) {
 		out += "near-symmetries: none stored\n";
 	} else {
-		appendf(out, "near-symmetries: %zu (turns that move only this share of the surface)\n",
+		appendf(out, "near-symmetries: %zu (turns that change only this share of the pixels of a view)\n",
 			s.nearSymmetries.size());
 		for (const NearSymmetry &ns : s.nearSymmetries) {
 			char turn[32];

@@ -18,9 +18,16 @@ struct NearSymmetry {
 	// The turn in degrees; 0: every turn about the axis (a body of
 	// revolution with a part on it).
 	float turnDeg = 0;
-	// Share of the surface the turn moves off the surface (the small part
-	// and where it was), the largest over the turns when continuous.
+	// Share of the object's pixels the turn changes in a view (the small
+	// part and where it was), the mean over views all round the object
+	// (core/training/turn_views.h); the largest over the turns when
+	// continuous.
 	float differingShare = 0;
+	// Share of those views in which the turn looks alike (little of it
+	// differs): where the estimator must compare the two explicitly. Known
+	// at training only (-1 once read from a forest file, which does not
+	// store it).
+	float alikeViews = -1;
 	bool continuous() const { return turnDeg == 0; }
 };
 

@@ -4,10 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <numbers>
 #include <unordered_map>
 
 #include <Eigen/Dense>
+
+#include "core/training/turn_views.h"
 
 namespace ihf {
 
@@ -230,6 +233,7 @@ std::vector<NearSymmetry> findNearSymmetries(const Mesh &mesh, const NearSymmetr
 	const double diameter = meshDiameter(mesh);
 	const double matchMm = config.matchShare * diameter;
 	const SampleGrid fine(samples, 2.0 * matchMm);
+	TurnViews views(mesh, config.views);
 	const int steps = static_cast<int>(std::lround(360.0 / config.stepDeg));
 	const double step = 360.0 / steps;
 
@@ -257,11 +261,14 @@ std::vector<NearSymmetry> findNearSymmetries(const Mesh &mesh, const NearSymmetr
 		// Held where it crosses the plane through the box centre square to
 		// the axis, so the same axis is stored the same way.
 		point -= c.axis * c.axis.dot(point - c.point);
-		std::vector<double> shares;
+		// Each turn as the estimator would see it (turn_views.h).
+		std::vector<TurnLook> looks;
 		for (int k = 1; k < steps; ++k)
-			shares.push_back(differingShare(samples, fine, c.axis, point, k * step, matchMm));
-		const double worst = *std::max_element(shares.begin(), shares.end());
-		auto add = [&](double deg, double share) {
+			looks.push_back(views.compare(c.axis, point, k * step));
+		double worst = 0;
+		for (const TurnLook &l : looks)
+			worst = std::max(worst, l.meanShare);
+		auto add = [&](double deg, const TurnLook &look) {
 			for (const NearSymmetry &s : found)
 				if (std::abs(s.axis.cast<double>().dot(c.axis)) > std::cos(10.0 * std::numbers::pi / 180.0) &&
 				    (s.continuous() || std::abs(s.turnDeg - deg) < 1e-3 ||
@@ -271,20 +278,28 @@ std::vector<NearSymmetry> findNearSymmetries(const Mesh &mesh, const NearSymmetr
 			s.axis = c.axis.cast<float>();
 			s.point = point.cast<float>();
 			s.turnDeg = static_cast<float>(deg);
-			s.differingShare = static_cast<float>(share);
+			s.differingShare = static_cast<float>(look.meanShare);
+			s.alikeViews = static_cast<float>(look.alikeViews);
 			found.push_back(s);
 		};
 		if (worst <= config.maxShare) {
-			add(0.0, worst);
+			TurnLook all;
+			all.meanShare = worst;
+			all.alikeViews = 1;
+			for (const TurnLook &l : looks)
+				all.alikeViews = std::min(all.alikeViews, l.alikeViews);
+			add(0.0, all);
 			continue;
 		}
 		// A turn and its reverse are one near-symmetry (the rival of a pose
 		// is tried both ways round).
 		for (int k = 1; 2 * k <= steps; ++k) {
-			const double share = std::max(shares[static_cast<size_t>(k - 1)],
-						      shares[static_cast<size_t>(steps - k - 1)]);
-			if (share <= config.maxShare)
-				add(k * step, share);
+			const TurnLook &there = looks[static_cast<size_t>(k - 1)], &back = looks[static_cast<size_t>(steps - k - 1)];
+			TurnLook both;
+			both.meanShare = std::max(there.meanShare, back.meanShare);
+			both.alikeViews = std::min(there.alikeViews, back.alikeViews);
+			if (both.meanShare <= config.maxShare)
+				add(k * step, both);
 		}
 	}
 	std::stable_sort(found.begin(), found.end(), [](const NearSymmetry &a, const NearSymmetry &b) {
@@ -293,6 +308,26 @@ std::vector<NearSymmetry> findNearSymmetries(const Mesh &mesh, const NearSymmetr
 	if (found.size() > static_cast<size_t>(std::max(config.maxFound, 0)))
 		found.resize(static_cast<size_t>(std::max(config.maxFound, 0)));
 	return found;
+}
+
+std::string describeNearSymmetry(const NearSymmetry &s)
+{
+	char turn[32];
+	if (s.continuous())
+		std::snprintf(turn, sizeof(turn), "any turn");
+	else
+		std::snprintf(turn, sizeof(turn), "a turn by %.0f deg", static_cast<double>(s.turnDeg));
+	char line[256];
+	std::snprintf(line, sizeof(line), "%s about (%.3f, %.3f, %.3f) through (%.1f, %.1f, %.1f) mm: %.1f %% of the pixels differ",
+		      turn, static_cast<double>(s.axis.x()), static_cast<double>(s.axis.y()), static_cast<double>(s.axis.z()),
+		      static_cast<double>(s.point.x()), static_cast<double>(s.point.y()), static_cast<double>(s.point.z()),
+		      100.0 * static_cast<double>(s.differingShare));
+	std::string out = line;
+	if (s.alikeViews >= 0) {
+		std::snprintf(line, sizeof(line), ", alike in %.0f %% of the views", 100.0 * static_cast<double>(s.alikeViews));
+		out += line;
+	}
+	return out;
 }
 
 } // namespace ihf

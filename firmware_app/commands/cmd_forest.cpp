@@ -43,6 +43,8 @@ int runForestSymmetries(const std::string &in, const std::string &out)
 		std::fprintf(stderr, "ihf forest symmetries: %s\n", s.error().message.c_str());
 		return kExitFailure;
 	}
+	for (const NearSymmetry &ns : found)
+		std::fprintf(stderr, "ihf forest symmetries: %s\n", describeNearSymmetry(ns).c_str());
 	std::fprintf(stderr, "ihf forest symmetries: %zu near-symmetries; wrote %s\n", found.size(), out.c_str());
 	return kExitOk;
 }

@@ -122,13 +122,8 @@ int runTrain(const TrainOptions &o)
 	// templates use the faces): the file leaves them out.
 	mesh->normals.clear();
 	const std::vector<NearSymmetry> nearSymmetries = findNearSymmetries(*mesh);
-	for (const NearSymmetry &ns : nearSymmetries) {
-		const std::string turn =
-			ns.continuous() ? std::string("any turn") : "a turn by " + std::to_string(std::lround(ns.turnDeg)) + " deg";
-		std::fprintf(stderr, "ihf train: near-symmetry: %s about (%.3f, %.3f, %.3f), %.1f %% of the surface differs\n",
-			     turn.c_str(), static_cast<double>(ns.axis.x()), static_cast<double>(ns.axis.y()),
-			     static_cast<double>(ns.axis.z()), 100.0 * static_cast<double>(ns.differingShare));
-	}
+	for (const NearSymmetry &ns : nearSymmetries)
+		std::fprintf(stderr, "ihf train: near-symmetry: %s\n", describeNearSymmetry(ns).c_str());
 	if (auto st = saveModelFile(o.out, s.params, *mesh, storage.view(), nearSymmetries); !st) {
 		std::fprintf(stderr, "ihf train: %s\n", st.error().message.c_str());
 		return kExitFailure;
