@@ -22,7 +22,7 @@
 namespace ihf {
 
 struct TurnViewsConfig {
-	int viewpoints = 64;        // directions on the sphere, quasi-uniform
+	int viewpoints = 32;        // directions on the sphere, quasi-uniform
 	int imageSize = 96;         // square views, pixels
 	double pixelsAcross = 64;   // the object's diameter in a view, pixels
 	double toleranceShare = 0.05; // depths closer than this share of the diameter agree
