@@ -172,19 +172,24 @@ Eigen::Vector3d fitAxisPoint(const std::vector<Sample> &samples, const SampleGri
 	return point;
 }
 
-// Share of the samples the turn moves off the surface.
+// Share of the samples the turn moves off the surface, or a share of at
+// least giveUpAt once that is certain (the rest is not looked at).
 double differingShare(const std::vector<Sample> &samples, const SampleGrid &grid, const Eigen::Vector3d &axis,
-		      const Eigen::Vector3d &point, double deg, double matchMm)
+		      const Eigen::Vector3d &point, double deg, double matchMm, double giveUpAt)
 {
+	if (samples.empty())
+		return 1.0;
 	const Eigen::Matrix3d R = turnAbout(axis, deg);
+	const double n = static_cast<double>(samples.size());
 	size_t off = 0;
 	for (const Sample &s : samples) {
 		const Eigen::Vector3d p = R * (s.p - point) + point;
 		const Sample *q = grid.nearest(p, R * s.n);
 		if (!q || std::abs(q->n.dot(p - q->p)) > matchMm)
-			++off;
+			if (static_cast<double>(++off) / n >= giveUpAt)
+				break;
 	}
-	return samples.empty() ? 1.0 : static_cast<double>(off) / static_cast<double>(samples.size());
+	return static_cast<double>(off) / n;
 }
 
 struct CandidateAxis {
@@ -251,7 +256,7 @@ std::vector<NearSymmetry> findNearSymmetries(const Mesh &mesh, const NearSymmetr
 		for (int i = -n; i <= n; ++i)
 			for (int j = -n; j <= n; ++j) {
 				const Eigen::Vector3d p = c.point + (i * stepMm) * u + (j * stepMm) * w;
-				const double share = differingShare(samples, fine, c.axis, p, 180.0, matchMm);
+				const double share = differingShare(samples, fine, c.axis, p, 180.0, matchMm, bestShare);
 				if (share < bestShare) {
 					bestShare = share;
 					point = p;
@@ -264,7 +269,7 @@ std::vector<NearSymmetry> findNearSymmetries(const Mesh &mesh, const NearSymmetr
 		// Each turn as the estimator would see it (turn_views.h).
 		std::vector<TurnLook> looks;
 		for (int k = 1; k < steps; ++k)
-			looks.push_back(views.compare(c.axis, point, k * step));
+			looks.push_back(views.compare(c.axis, point, k * step, config.maxShare));
 		double worst = 0;
 		for (const TurnLook &l : looks)
 			worst = std::max(worst, l.meanShare);

@@ -39,8 +39,9 @@ TurnViews::TurnViews(const Mesh &mesh, const TurnViewsConfig &config)
 	}
 }
 
-TurnLook TurnViews::compare(const Eigen::Vector3d &axis, const Eigen::Vector3d &point, double deg)
+TurnLook TurnViews::compare(const Eigen::Vector3d &axis, const Eigen::Vector3d &point, double deg, double giveUpAbove)
 {
+	const double views = static_cast<double>(poses_.size());
 	const Eigen::Matrix3d turn = Eigen::AngleAxisd(deg * std::numbers::pi / 180.0, axis.normalized()).toRotationMatrix();
 	const size_t pixels = turned_.size();
 	double shareSum = 0;
@@ -65,11 +66,13 @@ TurnLook TurnViews::compare(const Eigen::Vector3d &axis, const Eigen::Vector3d &
 		const double share = drawn ? static_cast<double>(differing) / static_cast<double>(drawn) : 0.0;
 		shareSum += share;
 		alike += share <= config_.alikeShare;
+		if (shareSum / views > giveUpAbove)
+			return {shareSum / views, 0.0};
 	}
 	TurnLook look;
 	if (!poses_.empty()) {
-		look.meanShare = shareSum / static_cast<double>(poses_.size());
-		look.alikeViews = static_cast<double>(alike) / static_cast<double>(poses_.size());
+		look.meanShare = shareSum / views;
+		look.alikeViews = static_cast<double>(alike) / views;
 	}
 	return look;
 }

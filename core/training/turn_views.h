@@ -40,7 +40,11 @@ class TurnViews
 public:
 	TurnViews(const Mesh &mesh, const TurnViewsConfig &config = {});
 	// The turn by deg degrees about the axis through point (model frame).
-	TurnLook compare(const Eigen::Vector3d &axis, const Eigen::Vector3d &point, double deg);
+	// Gives up once the mean share is sure to exceed giveUpAbove: then
+	// meanShare is above it (what the views so far add up to) and
+	// alikeViews is not counted.
+	TurnLook compare(const Eigen::Vector3d &axis, const Eigen::Vector3d &point, double deg,
+			 double giveUpAbove = 1.0);
 
 private:
 	const Mesh &mesh_;
