@@ -2,7 +2,8 @@
 // An object compared with itself turned, view by view: no turn changes
 // nothing, a true symmetry changes (almost) nothing, a turn that swaps a
 // box's long and short sides changes much of every view, and a turn that
-// only the views' depth can tell (beyond the tolerance) is counted.
+// only the views' depth can tell (beyond the tolerance) is counted; a
+// comparison sure to pass its limit stops early.
 
 #include <gtest/gtest.h>
 
@@ -66,6 +67,20 @@ TEST(TurnViews, DepthsWithinTheToleranceAgree)
 	const TurnLook beyond = b.compare(Eigen::Vector3d::UnitX(), {0, 0, 21}, 180.0);
 	EXPECT_LT(within.meanShare, 0.25);
 	EXPECT_GT(beyond.meanShare, within.meanShare + 0.1);
+}
+
+TEST(TurnViews, GivesUpOnceTheLimitIsSureToBePassed)
+{
+	const Mesh box = makeBox(100, 60, 40);
+	TurnViews views(box);
+	const TurnLook full = views.compare(kZ, {0, 0, 20}, 90.0);
+	const TurnLook cut = views.compare(kZ, {0, 0, 20}, 90.0, 0.1);
+	EXPECT_GT(cut.meanShare, 0.1);
+	EXPECT_LE(cut.meanShare, full.meanShare);
+	// Under the limit nothing changes.
+	const TurnLook symmetric = views.compare(kZ, {0, 0, 20}, 180.0, 0.1);
+	EXPECT_EQ(symmetric.meanShare, views.compare(kZ, {0, 0, 20}, 180.0).meanShare);
+	EXPECT_EQ(symmetric.alikeViews, 1.0);
 }
 
 } // namespace
