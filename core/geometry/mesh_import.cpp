@@ -108,6 +108,41 @@ int jsonDepth(std::string_view text)
 	return deepest;
 }
 
+// Every mesh primitive's vertices: attributes.POSITION, an accessor's index,
+// as glTF requires. assimp 5.2.5 reads a primitive without it through a
+// null pointer (tests/data/fuzz/gltf_primitive_without_position.gltf).
+Status checkGltfPositions(const nlohmann::json &j)
+{
+	const auto meshes = j.find("meshes");
+	if (meshes == j.end() || !meshes->is_array())
+		return {};
+	const auto accessors = j.find("accessors");
+	const size_t accessorCount = accessors != j.end() && accessors->is_array() ? accessors->size() : 0;
+	for (size_t m = 0; m < meshes->size(); ++m) {
+		const nlohmann::json &mesh = (*meshes)[m];
+		const auto primitives = mesh.is_object() ? mesh.find("primitives") : mesh.end();
+		if (!mesh.is_object() || primitives == mesh.end() || !primitives->is_array())
+			continue;
+		for (size_t p = 0; p < primitives->size(); ++p) {
+			const nlohmann::json &prim = (*primitives)[p];
+			const std::string where = "glTF: mesh " + std::to_string(m) + ", primitive " + std::to_string(p);
+			const auto attributes = prim.is_object() ? prim.find("attributes") : prim.end();
+			if (!prim.is_object() || attributes == prim.end() || !attributes->is_object())
+				return makeError(Errc::kParse, where + ": no attributes");
+			const auto position = attributes->find("POSITION");
+			if (position == attributes->end())
+				return makeError(Errc::kParse, where + ": no POSITION attribute (its vertices)");
+			if (position->is_string())
+				return makeError(Errc::kUnsupported, where + ": POSITION names its accessor, as glTF 1.0 "
+								    "did; glTF 2.0 files are read");
+			if (!position->is_number_unsigned() || position->get<uint64_t>() >= accessorCount)
+				return makeError(Errc::kParse, where + ": POSITION is not the index of one of the " +
+								   std::to_string(accessorCount) + " accessors");
+		}
+	}
+	return {};
+}
+
 // What assimp's glTF importer trusts and we check first: the JSON's
 // nesting, and that the nodes form trees, as glTF requires (a node that is
 // the child of two nodes, or of itself, would make assimp copy it once per
@@ -130,6 +165,8 @@ Status checkGltf(const std::string &bytes, bool binary, uint64_t maxNodes)
 	const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
 	if (j.is_discarded() || !j.is_object())
 		return makeError(Errc::kParse, "glTF: not a JSON object");
+	if (Status s = checkGltfPositions(j); !s)
+		return s;
 	const auto nodesIt = j.find("nodes");
 	if (nodesIt == j.end() || !nodesIt->is_array())
 		return {};

@@ -33,7 +33,8 @@ declare -A seeds=(
 	[fuzz_forest_file]="tests/data/forest_amd64.ihf"
 	[fuzz_recording]="tests/fuzz/corpus/recording"
 	[fuzz_ply]="tests/fuzz/corpus/ply tests/data/fuzz/ply_end_header_without_newline.ply"
-	[fuzz_mesh_import]="tests/fuzz/corpus/mesh tests/data/fuzz/stl_ascii_broken_midway.stl"
+	[fuzz_mesh_import]="tests/fuzz/corpus/mesh tests/data/fuzz/stl_ascii_broken_midway.stl
+		tests/data/fuzz/gltf_primitive_without_position.gltf"
 	[fuzz_bop_json]="tests/fuzz/corpus/bop_json config/models/models_info.json"
 	[fuzz_depth_png]="tests/fuzz/corpus/depth_png tests/data/golden_frame.png
 		tests/data/fuzz/png_text_chunk_claims_2gb.png tests/data/fuzz/png_header_claims_32768x32768.png"

@@ -255,6 +255,22 @@ TEST_F(MeshImportTest, BrokenFilesNameTheFileAndTheFault)
 	// Found by fuzz_mesh_import: an ASCII STL broken after two facets
 	// (assimp leaks its partial mesh there; see __lsan_default_suppressions).
 	expectError(test::sourceDir() / "tests" / "data" / "fuzz" / "stl_ascii_broken_midway.stl", "Invalid number of vertices");
+	// Found by fuzz_mesh_import: a glTF primitive whose vertices are not
+	// named (assimp 5.2.5 reads it through a null pointer), and the like.
+	expectError(test::sourceDir() / "tests" / "data" / "fuzz" / "gltf_primitive_without_position.gltf",
+		    "mesh 0, primitive 0: no POSITION attribute");
+	Mesh tri;
+	tri.vertices = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}};
+	tri.faces = {{0, 1, 2}};
+	const std::string buf = test::gltfBuffer(tri);
+	nlohmann::json j = test::gltfJson(tri, {{"byteLength", buf.size()},
+						{"uri", "data:application/octet-stream;base64," + test::base64(buf)}});
+	j["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 9;
+	expectError(write("position_past_accessors.gltf", j.dump()), "POSITION is not the index of one of the");
+	j["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = "accessor_0";
+	expectError(write("gltf1.gltf", j.dump()), "as glTF 1.0 did");
+	j["meshes"][0]["primitives"][0].erase("attributes");
+	expectError(write("no_attributes.gltf", j.dump()), "mesh 0, primitive 0: no attributes");
 }
 
 TEST_F(MeshImportTest, NonFiniteCoordinatesAreRefused)
