@@ -98,6 +98,22 @@ protected:
 		return dir_ / name;
 	}
 
+	// One triangle (0, 0, 0), (10, 0, 0), (0, 10, 0).
+	static Mesh triangle()
+	{
+		Mesh tri;
+		tri.vertices = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}};
+		tri.faces = {{0, 1, 2}};
+		return tri;
+	}
+	// A glTF of it with its buffer embedded.
+	static nlohmann::json embeddedGltf(const Mesh &tri)
+	{
+		const std::string buf = test::gltfBuffer(tri);
+		return test::gltfJson(tri, {{"byteLength", buf.size()},
+					    {"uri", "data:application/octet-stream;base64," + test::base64(buf)}});
+	}
+
 	// Loads and expects an error whose message names the file and says `what`.
 	void expectError(const fs::path &path, const std::string &what, const MeshImportLimits &limits = {})
 	{
@@ -218,12 +234,7 @@ TEST_F(MeshImportTest, StlCornersAreJoinedAndDegenerateTrianglesDropped)
 // A glTF node's transform moves its mesh; a mesh in two nodes is there twice.
 TEST_F(MeshImportTest, GltfNodeTransformsAndInstancesAreApplied)
 {
-	Mesh tri;
-	tri.vertices = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}};
-	tri.faces = {{0, 1, 2}};
-	const std::string buf = test::gltfBuffer(tri);
-	nlohmann::json j = test::gltfJson(tri, {{"byteLength", buf.size()},
-						{"uri", "data:application/octet-stream;base64," + test::base64(buf)}});
+	nlohmann::json j = embeddedGltf(triangle());
 	j["nodes"] = {{{"mesh", 0}, {"translation", {100, 0, 0}}},
 		      {{"children", {2}}, {"scale", {2, 2, 2}}},
 		      {{"mesh", 0}, {"translation", {0, 0, 5}}}};
@@ -259,12 +270,7 @@ TEST_F(MeshImportTest, BrokenFilesNameTheFileAndTheFault)
 	// named (assimp 5.2.5 reads it through a null pointer), and the like.
 	expectError(test::sourceDir() / "tests" / "data" / "fuzz" / "gltf_primitive_without_position.gltf",
 		    "mesh 0, primitive 0: no POSITION attribute");
-	Mesh tri;
-	tri.vertices = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}};
-	tri.faces = {{0, 1, 2}};
-	const std::string buf = test::gltfBuffer(tri);
-	nlohmann::json j = test::gltfJson(tri, {{"byteLength", buf.size()},
-						{"uri", "data:application/octet-stream;base64," + test::base64(buf)}});
+	nlohmann::json j = embeddedGltf(triangle());
 	j["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 9;
 	expectError(write("position_past_accessors.gltf", j.dump()), "POSITION is not the index of one of the");
 	j["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = "accessor_0";
@@ -325,12 +331,7 @@ TEST_F(MeshImportTest, LimitsAreCheckedBeforeTheCopy)
 // every instance against the vertex limit.
 TEST_F(MeshImportTest, InstanceBombsAreRefusedOnTheirCount)
 {
-	Mesh tri;
-	tri.vertices = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}};
-	tri.faces = {{0, 1, 2}};
-	const std::string buf = test::gltfBuffer(tri);
-	nlohmann::json j = test::gltfJson(tri, {{"byteLength", buf.size()},
-						{"uri", "data:application/octet-stream;base64," + test::base64(buf)}});
+	nlohmann::json j = embeddedGltf(triangle());
 	nlohmann::json nodes = nlohmann::json::array();
 	for (int k = 0; k < 20; ++k)
 		nodes.push_back({{"children", {k + 1, k + 1}}});
@@ -368,9 +369,7 @@ TEST_F(MeshImportTest, InstanceBombsAreRefusedOnTheirCount)
 // in the model's folder: no device, no file outside it.
 TEST_F(MeshImportTest, GltfBuffersOutsideTheModelFolderAreRefused)
 {
-	Mesh tri;
-	tri.vertices = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}};
-	tri.faces = {{0, 1, 2}};
+	const Mesh tri = triangle();
 	const std::string buf = test::gltfBuffer(tri);
 	fs::create_directories(dir_ / "model");
 	test::writeBytes(dir_ / "model" / "tri.bin", buf);

@@ -15,71 +15,69 @@ namespace {
 
 const Eigen::Vector3d kZ = Eigen::Vector3d::UnitZ();
 
-TEST(TurnViews, NoTurnChangesNothing)
+// A 100 x 60 x 40 mm box standing on z = 0 (its centre at z = 20), and its
+// views.
+class TurnViewsTest : public ::testing::Test
 {
-	const Mesh box = makeBox(100, 60, 40);
-	TurnViews views(box);
-	const TurnLook look = views.compare(kZ, {0, 0, 20}, 0.0);
+protected:
+	const Mesh box_ = makeBox(100, 60, 40);
+	TurnViews views_{box_};
+};
+
+TEST_F(TurnViewsTest, NoTurnChangesNothing)
+{
+	const TurnLook look = views_.compare(kZ, {0, 0, 20}, 0.0);
 	EXPECT_EQ(look.meanShare, 0.0);
 	EXPECT_EQ(look.alikeViews, 1.0);
 }
 
-TEST(TurnViews, ABoxTurnedHalfRoundAboutItsCentreLooksTheSame)
+TEST_F(TurnViewsTest, ABoxTurnedHalfRoundAboutItsCentreLooksTheSame)
 {
-	const Mesh box = makeBox(100, 60, 40);
-	TurnViews views(box);
-	const TurnLook look = views.compare(kZ, {0, 0, 20}, 180.0);
+	const TurnLook look = views_.compare(kZ, {0, 0, 20}, 180.0);
 	EXPECT_LT(look.meanShare, 0.01);
 	EXPECT_EQ(look.alikeViews, 1.0);
 }
 
-TEST(TurnViews, ABoxTurnedAQuarterShowsItsOtherSide)
+TEST_F(TurnViewsTest, ABoxTurnedAQuarterShowsItsOtherSide)
 {
-	const Mesh box = makeBox(100, 60, 40);
-	TurnViews views(box);
-	const TurnLook look = views.compare(kZ, {0, 0, 20}, 90.0);
+	const TurnLook look = views_.compare(kZ, {0, 0, 20}, 90.0);
 	EXPECT_GT(look.meanShare, 0.2);
 	EXPECT_LT(look.alikeViews, 0.5);
 }
 
-TEST(TurnViews, ATurnAboutAnAxisBesideTheCentreMovesTheBox)
+TEST_F(TurnViewsTest, ATurnAboutAnAxisBesideTheCentreMovesTheBox)
 {
 	// Half round about an axis 30 mm off the centre: the box lands 60 mm
 	// away, more than half of a 60 mm side.
-	const Mesh box = makeBox(100, 60, 40);
-	TurnViews views(box);
-	const TurnLook look = views.compare(kZ, {0, 30, 20}, 180.0);
+	const TurnLook look = views_.compare(kZ, {0, 30, 20}, 180.0);
 	EXPECT_GT(look.meanShare, 0.5);
 	EXPECT_EQ(look.alikeViews, 0.0);
 }
 
-TEST(TurnViews, DepthsWithinTheToleranceAgree)
+TEST_F(TurnViewsTest, DepthsWithinTheToleranceAgree)
 {
 	// Half round about x through a point 1 mm above the centre: the box
 	// moves 2 mm up (a twentieth of its height). Within the default tolerance
 	// (6 mm for this box) only the band of its outline differs; within
 	// 0.6 mm the faces seen end on differ too.
-	const Mesh box = makeBox(100, 60, 40);
-	TurnViewsConfig loose, tight;
+	TurnViewsConfig tight;
 	tight.toleranceShare = 0.005;
-	TurnViews a(box, loose), b(box, tight);
-	const TurnLook within = a.compare(Eigen::Vector3d::UnitX(), {0, 0, 21}, 180.0);
+	TurnViews b(box_, tight);
+	const TurnLook within = views_.compare(Eigen::Vector3d::UnitX(), {0, 0, 21}, 180.0);
 	const TurnLook beyond = b.compare(Eigen::Vector3d::UnitX(), {0, 0, 21}, 180.0);
 	EXPECT_LT(within.meanShare, 0.25);
 	EXPECT_GT(beyond.meanShare, within.meanShare + 0.1);
 }
 
-TEST(TurnViews, GivesUpOnceTheLimitIsSureToBePassed)
+TEST_F(TurnViewsTest, GivesUpOnceTheLimitIsSureToBePassed)
 {
-	const Mesh box = makeBox(100, 60, 40);
-	TurnViews views(box);
-	const TurnLook full = views.compare(kZ, {0, 0, 20}, 90.0);
-	const TurnLook cut = views.compare(kZ, {0, 0, 20}, 90.0, 0.1);
+	const TurnLook full = views_.compare(kZ, {0, 0, 20}, 90.0);
+	const TurnLook cut = views_.compare(kZ, {0, 0, 20}, 90.0, 0.1);
 	EXPECT_GT(cut.meanShare, 0.1);
 	EXPECT_LE(cut.meanShare, full.meanShare);
 	// Under the limit nothing changes.
-	const TurnLook symmetric = views.compare(kZ, {0, 0, 20}, 180.0, 0.1);
-	EXPECT_EQ(symmetric.meanShare, views.compare(kZ, {0, 0, 20}, 180.0).meanShare);
+	const TurnLook symmetric = views_.compare(kZ, {0, 0, 20}, 180.0, 0.1);
+	EXPECT_EQ(symmetric.meanShare, views_.compare(kZ, {0, 0, 20}, 180.0).meanShare);
 	EXPECT_EQ(symmetric.alikeViews, 1.0);
 }
 
