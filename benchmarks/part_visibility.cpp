@@ -32,6 +32,7 @@
 
 #include "core/dataset/bop_dataset.h"
 #include "core/geometry/ply_loader.h"
+#include "core/pose/half_turns.h"
 #include "core/render/depth_renderer.h"
 #include "core/runtime/arena.h"
 #include "core/training/near_symmetry_finder.h"
@@ -59,7 +60,7 @@ std::vector<Pose> rivalsOf(const Pose &truth, const Mesh &mesh, const std::vecto
 			moved += (turn * (v.cast<double>() - c) + c - v.cast<double>()).norm();
 		if (moved / static_cast<double>(std::max<size_t>(mesh.vertices.size(), 1)) <= 0.1 * diameter)
 			return;
-		out.push_back({truth.R * turn, truth.R * (c - turn * c) + truth.t});
+		out.push_back(turnedAbout(truth, turn, c));
 	};
 	for (const NearSymmetry &s : symmetries) {
 		if (s.continuous()) {

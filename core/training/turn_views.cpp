@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "core/pose/half_turns.h"
 #include "core/training/view_sampler.h"
 
 namespace ihf {
@@ -47,9 +48,7 @@ TurnLook TurnViews::compare(const Eigen::Vector3d &axis, const Eigen::Vector3d &
 	double shareSum = 0;
 	int alike = 0;
 	for (size_t i = 0; i < poses_.size(); ++i) {
-		// x -> turn (x - point) + point, then the view's pose.
-		const Pose &p = poses_[i];
-		const Pose turned{p.R * turn, p.R * (point - turn * point) + p.t};
+		const Pose turned = turnedAbout(poses_[i], turn, point);
 		std::fill(turned_.begin(), turned_.end(), 0.0f);
 		ImageView<float> depth(turned_.data(), K_.width, K_.height);
 		(void)renderer_.render(mesh_, turned, K_, depth);
