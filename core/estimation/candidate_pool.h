@@ -103,6 +103,14 @@ public:
 	// The iteration an observer and PoseEstimate see for h (HypothesisEvent).
 	int reportedIteration(const Hypothesis &h) const;
 
+	// The best-scoring reported poses distinct from winner and from each
+	// other (RivalPoses::bestDistinctPoses()).
+	size_t bestDistinctRivals(const Pose &winner, std::span<const Eigen::Vector3f> vertices, double distinctMm,
+				  std::span<RivalPose> out) const
+	{
+		return rivals_.bestDistinctPoses(winner, vertices, distinctMm, out);
+	}
+
 	// The best score of a rival distinct from winner (RivalPoses::bestDistinct()).
 	float bestDistinctRival(const Pose &winner, std::span<const Eigen::Vector3f> vertices,
 				const Eigen::Vector3d &centre, bool symmetric, double distinctMm) const

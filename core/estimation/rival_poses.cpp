@@ -5,6 +5,32 @@
 
 namespace ihf {
 
+namespace {
+
+// At most RivalPoses::kMaxPoints of vertices, evenly strided, into points
+// (room for kMaxPoints); returns how many.
+int samplePoints(std::span<const Eigen::Vector3f> vertices, Eigen::Vector3d *points)
+{
+	int n = 0;
+	const size_t stride = (vertices.size() + RivalPoses::kMaxPoints - 1) / RivalPoses::kMaxPoints;
+	for (size_t i = 0; i < vertices.size() && n < RivalPoses::kMaxPoints; i += stride)
+		points[n++] = vertices[i].cast<double>();
+	return n;
+}
+
+// Whether the points placed by a and by b lie more than distinctMm apart on average.
+bool apart(const Pose &a, const Pose &b, const Eigen::Vector3d *points, int n, double distinctMm)
+{
+	const Eigen::Matrix3d dR = a.R - b.R;
+	const Eigen::Vector3d dt = a.t - b.t;
+	double sum = 0;
+	for (int i = 0; i < n; ++i)
+		sum += (dR * points[i] + dt).norm();
+	return sum > distinctMm * n;
+}
+
+} // namespace
+
 float poseConfidence(float score, float margin, const ConfidenceConfig &config)
 {
 	if (config.fullMargin <= 0)
@@ -31,28 +57,46 @@ float RivalPoses::bestDistinct(const Pose &winner, std::span<const Eigen::Vector
 {
 	Eigen::Vector3d points[kMaxPoints];
 	int n = 0;
-	if (symmetric || vertices.empty()) {
+	if (symmetric || vertices.empty())
 		points[n++] = centre;
-	} else {
-		const size_t stride = (vertices.size() + kMaxPoints - 1) / kMaxPoints;
-		for (size_t i = 0; i < vertices.size() && n < kMaxPoints; i += stride)
-			points[n++] = vertices[i].cast<double>();
-	}
+	else
+		n = samplePoints(vertices, points);
 	float best = 0;
 	for (size_t r = 0; r < count_; ++r) {
 		const RivalPose &rival = storage_[r];
-		if (rival.score <= best)
-			continue;
-		// Mean distance of the points under the two poses.
-		const Eigen::Matrix3d dR = rival.pose.R - winner.R;
-		const Eigen::Vector3d dt = rival.pose.t - winner.t;
-		double sum = 0;
-		for (int i = 0; i < n; ++i)
-			sum += (dR * points[i] + dt).norm();
-		if (sum > distinctMm * n)
+		if (rival.score > best && apart(rival.pose, winner, points, n, distinctMm))
 			best = rival.score;
 	}
 	return best;
+}
+
+size_t RivalPoses::bestDistinctPoses(const Pose &winner, std::span<const Eigen::Vector3f> vertices,
+				     double distinctMm, std::span<RivalPose> out) const
+{
+	Eigen::Vector3d points[kMaxPoints];
+	const int n = samplePoints(vertices, points);
+	if (n == 0)
+		return 0;
+	// Each time the best-scoring stored pose apart from the winner and from
+	// those taken (a taken one is not apart from itself).
+	size_t taken = 0;
+	while (taken < out.size()) {
+		const RivalPose *next = nullptr;
+		for (size_t r = 0; r < count_; ++r) {
+			const RivalPose &rival = storage_[r];
+			if ((next && rival.score <= next->score) || !apart(rival.pose, winner, points, n, distinctMm))
+				continue;
+			bool alone = true;
+			for (size_t j = 0; j < taken && alone; ++j)
+				alone = apart(rival.pose, out[j].pose, points, n, distinctMm);
+			if (alone)
+				next = &rival;
+		}
+		if (!next)
+			break;
+		out[taken++] = *next;
+	}
+	return taken;
 }
 
 } // namespace ihf

@@ -60,6 +60,12 @@ public:
 	float bestDistinct(const Pose &winner, std::span<const Eigen::Vector3f> vertices, const Eigen::Vector3d &centre,
 			   bool symmetric, double distinctMm) const;
 
+	// The highest-scoring stored poses, best first, each lying on average
+	// more than distinctMm from winner's and from those before it, into
+	// out; returns how many (at most out.size()).
+	size_t bestDistinctPoses(const Pose &winner, std::span<const Eigen::Vector3f> vertices, double distinctMm,
+				 std::span<RivalPose> out) const;
+
 private:
 	std::span<RivalPose> storage_;
 	size_t count_ = 0;

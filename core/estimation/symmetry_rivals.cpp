@@ -59,7 +59,7 @@ bool SymmetryRivalSource::enabled(const ProposalBox &box) const
 	return box.config.symmetryTurns.enabled && !box.model.nearSymmetries().empty();
 }
 
-size_t SymmetryRivalSource::compareTurns(ProposalBox &box, const Pose &best, std::span<Turn> turns)
+size_t SymmetryRivalSource::turnsOf(ProposalBox &box, const Pose &best, std::span<Rival> out)
 {
 	const SymmetryTurnConfig &cfg = box.config.symmetryTurns;
 	const double distinctMm =
@@ -67,19 +67,19 @@ size_t SymmetryRivalSource::compareTurns(ProposalBox &box, const Pose &best, std
 	const std::span<const Eigen::Vector3f> vertices = box.model.mesh().vertices;
 	size_t n = 0;
 	auto add = [&](const NearSymmetry &s, double deg) {
-		if (n >= turns.size())
+		if (n >= out.size())
 			return;
 		const Eigen::Vector3d axis = s.axis.cast<double>(), point = s.point.cast<double>();
 		const Eigen::Matrix3d turn =
 			Eigen::AngleAxisd(deg * std::numbers::pi / 180.0, axis).toRotationMatrix();
-		Turn &t = turns[n];
+		Rival &t = out[n];
+		t = {};
 		t.pose = turnedAbout(best, turn, point);
 		if (!(t.pose.t.z() > 0))
 			return;
 		t.axis = axis;
+		t.turn = true;
 		t.distinct = meanTurnDistance(vertices, turn, point) > distinctMm;
-		t.evidence = {};
-		t.polished = {};
 		++n;
 	};
 	for (const NearSymmetry &s : box.model.nearSymmetries()) {
@@ -93,52 +93,79 @@ size_t SymmetryRivalSource::compareTurns(ProposalBox &box, const Pose &best, std
 				add(s, -s.turnDeg);
 		}
 	}
-	// The best's render kept; each turn rendered on its thread's slot and
+	return n;
+}
+
+size_t SymmetryRivalSource::closeRivalsOf(ProposalBox &box, const Hypothesis &best, std::span<Rival> out)
+{
+	const double distinctMm =
+		static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
+	RivalPose close[kMaxCloseRivals];
+	const size_t wanted = std::min(out.size(), static_cast<size_t>(std::clamp(box.config.symmetryTurns.closeRivals, 0, kMaxCloseRivals)));
+	const size_t found = box.pool.bestDistinctRivals(best.pose, box.model.mesh().vertices, distinctMm,
+							 std::span<RivalPose>(close, wanted));
+	size_t n = 0;
+	for (size_t k = 0; k < found; ++k) {
+		if (!(close[k].pose.t.z() > 0))
+			continue;
+		Rival &c = out[n++];
+		c = {};
+		c.pose = close[k].pose;
+		c.distinct = true;
+	}
+	return n;
+}
+
+bool SymmetryRivalSource::compareWithBest(ProposalBox &box, const Pose &best, std::span<Rival> rivals)
+{
+	// The best's render kept; each rival rendered on its thread's slot and
 	// compared with it.
 	if (!box.scorer.render(best, 0))
-		return 0;
+		return false;
 	const ImageView<float> reference = box.workspace.reference();
 	const ImageView<float> bestRender = box.workspace.slot(0).render;
 	for (int y = 0; y < reference.height; ++y)
 		std::copy_n(bestRender.row(y), reference.width, reference.row(y));
-	Turn *all[kMaxSymmetryTurns];
+	Rival *all[kMaxSymmetryTurns + kMaxCloseRivals];
+	const size_t n = std::min(rivals.size(), std::size(all));
 	for (size_t k = 0; k < n; ++k)
-		all[k] = &turns[k];
-	compareWithReference(box, std::span<Turn *>(all, n));
-	return n;
+		all[k] = &rivals[k];
+	compareWithReference(box, std::span<Rival *>(all, n));
+	return true;
 }
 
-void SymmetryRivalSource::compareWithReference(ProposalBox &box, std::span<Turn *> turns)
+void SymmetryRivalSource::compareWithReference(ProposalBox &box, std::span<Rival *> rivals)
 {
 	const ImageView<const float> reference = box.workspace.reference();
 	const ImageView<const float> observed = box.scorer.window().observed;
 	const float tolerance = box.config.score.inlierMm;
-	box.workspace.workers().run(static_cast<int>(turns.size()), [&](int k, int slot) {
-		Turn &t = *turns[static_cast<size_t>(k)];
+	box.workspace.workers().run(static_cast<int>(rivals.size()), [&](int k, int slot) {
+		Rival &t = *rivals[static_cast<size_t>(k)];
 		t.evidence = {};
 		if (box.scorer.render(t.pose, slot))
 			t.evidence = comparePoseRenders(observed, reference, box.workspace.slot(slot).render, tolerance);
 	});
 }
 
-void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best, std::span<Turn> turns)
+void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best, std::span<Rival> rivals)
 {
 	const SymmetryTurnConfig &cfg = box.config.symmetryTurns;
 	if (cfg.polishRivals <= 0 || !box.config.icp || !box.planner.polishFits(box.config.budgetMargin))
 		return;
 	// The turns the best does not clearly beat, the one the depth prefers
 	// most first.
-	Turn *undecided[kMaxSymmetryTurns];
+	Rival *undecided[kMaxSymmetryTurns + kMaxCloseRivals];
 	size_t nu = 0;
-	for (Turn &t : turns)
-		if (!decisive(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg))
+	for (Rival &t : rivals)
+		if (t.turn && nu < std::size(undecided) &&
+		    !decisive(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg))
 			undecided[nu++] = &t;
-	const auto ahead = [](const Turn *u) { return u->evidence.forB - u->evidence.forA; };
+	const auto ahead = [](const Rival *u) { return u->evidence.forB - u->evidence.forA; };
 	// Ties keep the turns' order (std::sort, not stable_sort: that one may allocate).
-	std::sort(undecided, undecided + nu, [&](const Turn *a, const Turn *b) {
+	std::sort(undecided, undecided + nu, [&](const Rival *a, const Rival *b) {
 		return ahead(a) != ahead(b) ? ahead(a) > ahead(b) : a < b;
 	});
-	Turn *picked[kMaxSymmetryRivalsPolished];
+	Rival *picked[kMaxSymmetryRivalsPolished];
 	const size_t np = std::min(nu, static_cast<size_t>(std::min(cfg.polishRivals, kMaxSymmetryRivalsPolished)));
 	std::copy_n(undecided, np, picked);
 	if (np == 0)
@@ -159,17 +186,17 @@ void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best,
 	const double distinctMm =
 		static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
 	size_t moved = 0;
-	Turn raw[kMaxSymmetryRivalsPolished];
+	Rival raw[kMaxSymmetryRivalsPolished];
 	for (size_t j = 0; j < np; ++j) {
 		if (!out[j].valid || meanPoseDistance(box.model.mesh().vertices, best.pose, out[j].pose) <= distinctMm)
 			continue;
-		Turn &t = *picked[j];
+		Rival &t = *picked[j];
 		raw[moved] = t;
 		t.pose = out[j].pose;
 		t.polished = out[j];
 		picked[moved++] = &t;
 	}
-	compareWithReference(box, std::span<Turn *>(picked, moved));
+	compareWithReference(box, std::span<Rival *>(picked, moved));
 	// Each turn is judged as the depth likes it best, polished or not: the
 	// polish gives a rival its chance, and does not hide one the best does
 	// not beat.
@@ -180,69 +207,101 @@ void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best,
 	}
 }
 
+const SymmetryRivalSource::Rival *SymmetryRivalSource::clearest(std::span<const Rival> rivals,
+								const SymmetryTurnConfig &cfg, bool closeRivals)
+{
+	const Rival *winner = nullptr;
+	for (const Rival &t : rivals) {
+		const PartEvidence &e = t.evidence;
+		if ((t.turn || closeRivals) && decisive(e.forB, e.forA, e.informative, cfg) &&
+		    (!winner || e.forB - e.forA > winner->evidence.forB - winner->evidence.forA))
+			winner = &t;
+	}
+	return winner;
+}
+
+Hypothesis SymmetryRivalSource::adopt(ProposalBox &box, const Hypothesis &current, const Rival &winner)
+{
+	if (winner.polished.valid)
+		return winner.polished;
+	Hypothesis h;
+	h.valid = true;
+	h.pose = winner.pose;
+	h.score = box.scorer.score(h.pose);
+	h.origin = current.origin;
+	h.iteration = current.iteration;
+	if (!box.config.icp)
+		return h;
+	Hypothesis polished[1];
+	box.polisher.polishAll(std::span<const Hypothesis>(&h, 1), polished, Stage::kSymmetryTurns);
+	return polished[0].valid ? polished[0] : h;
+}
+
 Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best, std::span<const Hypothesis>)
 {
 	verdict_ = {};
 	const SymmetryTurnConfig &cfg = box.config.symmetryTurns;
 	Hypothesis current = best;
-	Turn turns[kMaxSymmetryTurns];
+	Rival rivals[kMaxSymmetryTurns + kMaxCloseRivals];
 	for (int round = 0; round < std::max(cfg.rounds, 1); ++round) {
 		if (!box.planner.stageFits(Stage::kSymmetryTurns, box.config.budgetMargin, true))
 			break;
 		const int64_t start = box.planner.timer().last();
-		const size_t n = compareTurns(box, current.pose, turns);
+		size_t n = turnsOf(box, current.pose, std::span<Rival>(rivals, kMaxSymmetryTurns));
+		if (round == 0)
+			n += closeRivalsOf(box, current, std::span<Rival>(rivals + n, kMaxCloseRivals));
+		if (!compareWithBest(box, current.pose, std::span<Rival>(rivals, n)))
+			n = 0;
 		box.planner.observeStage(Stage::kSymmetryTurns, start, true);
 		// The rivals' polish is a polish round of its own (polishFits()):
 		// the stage's cost, and the time a budget keeps for it, is the
 		// comparison's alone.
-		polishRivals(box, current, std::span<Turn>(turns, n));
+		polishRivals(box, current, std::span<Rival>(rivals, n));
 		box.planner.timer().resume(Stage::kSymmetryTurns);
 		verdict_.ran = true;
 		verdict_.compared = static_cast<int>(n);
 		verdict_.ambiguous = false;
 		verdict_.decisive = false;
-		// The turn the depth prefers most clearly, if any.
-		const Turn *winner = nullptr;
+		// The rival the depth prefers most clearly, if any. A close rival
+		// is taken only if, polished, its whole-silhouette score stays
+		// within closeLoss of the best's: on a real sensor's noise a pose
+		// turned well off can explain more of the pixels where the two
+		// differ and still fit the object worse.
+		const bool last = round + 1 == std::max(cfg.rounds, 1);
+		const Rival *winner = clearest(std::span<const Rival>(rivals, n), cfg, !last);
+		Hypothesis next;
+		if (winner && !winner->turn && !last) {
+			next = adopt(box, current, *winner);
+			if (next.score.score < current.score.score - cfg.closeLoss) {
+				box.pool.report(next, "close_rival_refused", round);
+				next = {};
+				winner = clearest(std::span<const Rival>(rivals, n), cfg, false);
+			}
+		}
 		int distinctTurns = 0, beaten = 0;
 		for (size_t k = 0; k < n; ++k) {
-			const Turn &t = turns[k];
-			const PartEvidence &e = t.evidence;
-			if (decisive(e.forB, e.forA, e.informative, cfg) &&
-			    (!winner || e.forB - e.forA > winner->evidence.forB - winner->evidence.forA))
-				winner = &t;
-			if (!t.distinct)
+			const Rival &t = rivals[k];
+			if (!t.turn || !t.distinct)
 				continue;
 			++distinctTurns;
-			if (decisive(e.forA, e.forB, e.informative, cfg)) {
+			if (decisive(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg)) {
 				++beaten;
 			} else if (!verdict_.ambiguous) {
 				verdict_.ambiguous = true;
 				verdict_.axis = t.axis;
 			}
 		}
-		if (!winner || round + 1 == std::max(cfg.rounds, 1)) {
+		if (!winner || last) {
 			verdict_.decisive = distinctTurns > 0 && beaten == distinctTurns;
 			if (winner)
 				verdict_.ambiguous = true; // still a turn ahead when the rounds ran out
 			break;
 		}
-		// The preferred turn replaces the best, polished (unless it was
+		// The preferred rival replaces the best, polished (unless it was
 		// already); then its own turns are compared with it.
-		Hypothesis polished[1];
-		Hypothesis h;
-		if (winner->polished.valid) {
-			h = winner->polished;
-		} else {
-			h.valid = true;
-			h.pose = winner->pose;
-			h.score = box.scorer.score(h.pose);
-			h.origin = current.origin;
-			h.iteration = current.iteration;
-			if (box.config.icp)
-				box.polisher.polishAll(std::span<const Hypothesis>(&h, 1), polished, Stage::kSymmetryTurns);
-		}
-		const Hypothesis &next = polished[0].valid ? polished[0] : h;
-		box.pool.report(next, "symmetry_turn", round);
+		if (!next.valid)
+			next = adopt(box, current, *winner);
+		box.pool.report(next, winner->turn ? "symmetry_turn" : "close_rival", round);
 		current = next;
 		verdict_.turned = true;
 	}

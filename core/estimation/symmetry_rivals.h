@@ -6,11 +6,16 @@
 // every stepDeg about a continuous axis, the stored turn both ways round
 // about a discrete one), each compared with the best on the pixels where
 // their renders differ (part_evidence.h), not by the whole-silhouette score
-// on which they tie. A turn that the depth clearly prefers replaces the
-// best (then polished, and compared again with its own turns); the final
-// comparison says whether the best beat every distinct turn (decisive) or
-// whether the depth cannot tell it from one (the part hidden: ambiguous, with
-// that turn's axis). Not in the paper.
+// on which they tie. The first comparison also takes the best's close
+// rivals: the best-scoring hypotheses distinct from it (the object
+// upside down and slid along its axis covers less of the depth but fits
+// what it covers as well as the truth, whose turn it is not). A rival that
+// the depth clearly prefers replaces the best (then polished, and compared
+// again with its own turns; a close rival only if its polished score stays
+// near the best's); the final comparison says whether the best
+// beat every distinct turn (decisive) or whether the depth cannot tell it
+// from one (the part hidden: ambiguous, with that turn's axis). Not in the
+// paper.
 
 #include <span>
 
@@ -26,11 +31,13 @@ namespace ihf {
 inline constexpr int kMaxSymmetryTurns = 48;
 // Turns polished per round at most.
 inline constexpr int kMaxSymmetryRivalsPolished = 8;
+// Close rivals compared at most.
+inline constexpr int kMaxCloseRivals = 8;
 
 // What the last box's comparison found.
 struct SymmetryVerdict {
 	bool ran = false;       // the best was compared with its turns
-	bool turned = false;    // a turn replaced the best
+	bool turned = false;    // a turn or a close rival replaced the best
 	bool decisive = false;  // the best beat every distinct turn on the pixels where they differ
 	bool ambiguous = false; // a distinct turn the depth cannot tell from the best
 	Eigen::Vector3d axis = Eigen::Vector3d::Zero(); // that turn's axis, model frame
@@ -49,26 +56,38 @@ public:
 	void clear() { verdict_ = {}; }
 
 private:
-	struct Turn {
+	// A pose compared with the best: one of its turns, or a close rival.
+	struct Rival {
 		Pose pose;
-		Eigen::Vector3d axis;
+		Eigen::Vector3d axis = Eigen::Vector3d::Zero(); // a turn's, model frame
+		bool turn = false;
 		bool distinct = false; // its model points lie more than the confidence's distinct share away
-		PartEvidence evidence; // A: the best, B: the turn
-		Hypothesis polished;   // the turn polished, when it was
+		PartEvidence evidence; // A: the best, B: the rival
+		Hypothesis polished;   // the rival polished, when it was
 	};
-	// best's turns (at most kMaxSymmetryTurns), each rendered and compared
-	// with best's render; returns how many.
-	static size_t compareTurns(ProposalBox &box, const Pose &best, std::span<Turn> turns);
-	// Each turn rendered and compared with the best's render (the
-	// workspace's reference).
-	static void compareWithReference(ProposalBox &box, std::span<Turn *> turns);
+	// best's turns (at most out.size()); returns how many.
+	static size_t turnsOf(ProposalBox &box, const Pose &best, std::span<Rival> out);
+	// best's close rivals: the highest-scoring reported poses, each a
+	// distinct share away from it and from those taken before, at most
+	// SymmetryTurnConfig::closeRivals and out.size(); returns how many.
+	static size_t closeRivalsOf(ProposalBox &box, const Hypothesis &best, std::span<Rival> out);
+	// best rendered as the workspace's reference, and each rival compared
+	// with it; false when best cannot be rendered.
+	static bool compareWithBest(ProposalBox &box, const Pose &best, std::span<Rival> rivals);
+	// Each rival rendered and compared with the reference.
+	static void compareWithReference(ProposalBox &box, std::span<Rival *> rivals);
 	// The turns the best does not clearly beat, at most
 	// SymmetryTurnConfig::polishRivals of them, the one the depth prefers
 	// most first, polished and compared again: the turn of a best that is
 	// itself a little off lands as far off the truth, its part beside the
 	// part the sensor sees, and is heard only once polished. A turn keeps
 	// whichever of its two comparisons favours it more.
-	static void polishRivals(ProposalBox &box, const Hypothesis &best, std::span<Turn> turns);
+	static void polishRivals(ProposalBox &box, const Hypothesis &best, std::span<Rival> rivals);
+	// The rival the depth prefers most clearly over the best (of the turns
+	// alone unless closeRivals), or null.
+	static const Rival *clearest(std::span<const Rival> rivals, const SymmetryTurnConfig &cfg, bool closeRivals);
+	// The winner as a hypothesis, polished unless it was.
+	static Hypothesis adopt(ProposalBox &box, const Hypothesis &current, const Rival &winner);
 
 	SymmetryVerdict verdict_;
 };

@@ -187,6 +187,11 @@ const KeyDesc kEstimateKeys[] = {
 	  X,
 	  "turns the best does not clearly beat, polished before they are compared again (the turn of a pose a little "
 	  "off is as far off)"),
+	E("symmetry_turns", "close_rivals", estimator.symmetryTurns.closeRivals, within(0, kMaxCloseRivals), X,
+	  "the best-scoring hypotheses distinct from the best, compared with it on the pixels where they differ (the "
+	  "object upside down and slid along its axis fits the depth it covers as well as the truth)"),
+	E("symmetry_turns", "close_loss", estimator.symmetryTurns.closeLoss, within(0, 1), X,
+	  "a close rival that wins there replaces the best only if, polished, it scores at most this much less"),
 
 	E("confidence", "distinct_share", estimator.confidence.distinctShare, (Range{0, 1, true}), X,
 	  "a rival is a different pose when its model points lie this far on average, in diameters"),

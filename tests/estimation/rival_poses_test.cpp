@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The confidence's margin: the winner's score over the best rival that is a
-// different pose (rival_poses.h).
+// The reported poses of a box (rival_poses.h): the confidence's margin, the
+// winner's score over the best rival that is a different pose, and the
+// best distinct poses the nearly symmetric objects' comparison takes.
 #include <cmath>
 #include <vector>
 
@@ -95,6 +96,34 @@ TEST(RivalPoses, AFullStoreKeepsTheBestScores)
 	none.add(turnedAboutZ(180, {0, 0, 800}), 0.9f);
 	EXPECT_EQ(none.size(), 0u);
 	EXPECT_FLOAT_EQ(none.bestDistinct(winner, v, {0, 0, 0}, false, 10.0), 0.0f);
+}
+
+TEST(RivalPoses, TheBestDistinctPosesBestFirstEachApartFromThoseBefore)
+{
+	const std::vector<Eigen::Vector3f> v = lShape();
+	const Eigen::Vector3d origin(0, 0, 800);
+	std::vector<RivalPose> storage(8);
+	RivalPoses rivals(storage);
+	const Pose winner = turnedAboutZ(0, origin);
+	rivals.add(winner, 0.9f);
+	rivals.add(turnedAboutZ(3, origin + Eigen::Vector3d(2, 0, 0)), 0.88f);   // the winner again
+	rivals.add(turnedAboutZ(0, origin + Eigen::Vector3d(0, 0, 60)), 0.6f);   // 60 mm behind
+	rivals.add(turnedAboutZ(180, origin), 0.7f);                              // turned half round
+	rivals.add(turnedAboutZ(178, origin + Eigen::Vector3d(1, 0, 0)), 0.75f); // the same half-turn, better
+	rivals.add(turnedAboutZ(90, origin), 0.5f);
+
+	RivalPose out[4];
+	ASSERT_EQ(rivals.bestDistinctPoses(winner, v, 10.0, out), 3u);
+	EXPECT_FLOAT_EQ(out[0].score, 0.75f); // the half-turn, once, at its best
+	EXPECT_FLOAT_EQ(out[1].score, 0.6f);
+	EXPECT_FLOAT_EQ(out[2].score, 0.5f);
+	EXPECT_NEAR(out[1].pose.t.z(), 860.0, 1e-9);
+
+	// No more than asked; none when nothing lies that far.
+	EXPECT_EQ(rivals.bestDistinctPoses(winner, v, 10.0, std::span<RivalPose>(out, 1)), 1u);
+	EXPECT_FLOAT_EQ(out[0].score, 0.75f);
+	EXPECT_EQ(rivals.bestDistinctPoses(winner, v, 100.0, out), 0u);
+	EXPECT_EQ(RivalPoses().bestDistinctPoses(winner, v, 10.0, out), 0u);
 }
 
 } // namespace
