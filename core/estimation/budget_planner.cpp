@@ -119,6 +119,14 @@ bool BudgetPlanner::polishFits(double margin)
 	return false;
 }
 
+bool BudgetPlanner::optionalStageFits(Stage stage, double margin)
+{
+	if (budget_.fits(timer_.now(), costs_.bound(stage, margin, boxWork_) + polishCost(margin) + keptCost(margin)))
+		return true;
+	costs_.refused(stage);
+	return false;
+}
+
 bool BudgetPlanner::stageFits(Stage stage, double margin, bool scalesWithBox)
 {
 	return fits(costs_.bound(stage, margin, scalesWithBox ? boxWork_ : 1.0));

@@ -98,6 +98,10 @@ public:
 	bool polishFits(double margin);
 	// One run of `stage` (the half-turns).
 	bool stageFits(Stage stage, double margin, bool scalesWithBox);
+	// An optional run of `stage` (scaled with the box) and a polish round
+	// after it, with room for the stages kept last; a refusal does not
+	// count the box as cut short.
+	bool optionalStageFits(Stage stage, double margin);
 	// The search's prediction eases (StageCostModel::refused()): wanted
 	// but refused, it is not measured again otherwise.
 	void searchRefused() { searchCosts().refused(Stage::kViews); }

@@ -77,6 +77,27 @@ size_t RivalPoses::bestDistinctPoses(const Pose &winner, std::span<const Eigen::
 	const int n = samplePoints(vertices, points);
 	if (n == 0)
 		return 0;
+	// Bounds on the mean distance that settle most pairs without the
+	// points: it is at least the distance of the points' mean and at most
+	// |dt| + |dR| times the points' mean norm. The winner's many near copies
+	// score highest and are measured again at every pick.
+	Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+	double meanNorm = 0;
+	for (int i = 0; i < n; ++i) {
+		mean += points[i];
+		meanNorm += points[i].norm();
+	}
+	mean /= n;
+	meanNorm /= n;
+	auto distinct = [&](const Pose &a, const Pose &b) {
+		const Eigen::Matrix3d dR = a.R - b.R;
+		const Eigen::Vector3d dt = a.t - b.t;
+		if ((dR * mean + dt).norm() > distinctMm * (1 + 1e-9))
+			return true;
+		if (dt.norm() + dR.norm() * meanNorm < distinctMm * (1 - 1e-9))
+			return false;
+		return apart(a, b, points, n, distinctMm);
+	};
 	// Each time the best-scoring stored pose apart from the winner and from
 	// those taken (a taken one is not apart from itself).
 	size_t taken = 0;
@@ -84,11 +105,11 @@ size_t RivalPoses::bestDistinctPoses(const Pose &winner, std::span<const Eigen::
 		const RivalPose *next = nullptr;
 		for (size_t r = 0; r < count_; ++r) {
 			const RivalPose &rival = storage_[r];
-			if ((next && rival.score <= next->score) || !apart(rival.pose, winner, points, n, distinctMm))
+			if ((next && rival.score <= next->score) || !distinct(rival.pose, winner))
 				continue;
 			bool alone = true;
 			for (size_t j = 0; j < taken && alone; ++j)
-				alone = apart(rival.pose, out[j].pose, points, n, distinctMm);
+				alone = distinct(rival.pose, out[j].pose);
 			if (alone)
 				next = &rival;
 		}

@@ -78,7 +78,6 @@ size_t SymmetryRivalSource::turnsOf(ProposalBox &box, const Pose &best, std::spa
 		if (!(t.pose.t.z() > 0))
 			return;
 		t.axis = axis;
-		t.turn = true;
 		t.distinct = meanTurnDistance(vertices, turn, point) > distinctMm;
 		++n;
 	};
@@ -101,7 +100,8 @@ size_t SymmetryRivalSource::closeRivalsOf(ProposalBox &box, const Hypothesis &be
 	const double distinctMm =
 		static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
 	RivalPose close[kMaxCloseRivals];
-	const size_t wanted = std::min(out.size(), static_cast<size_t>(std::clamp(box.config.symmetryTurns.closeRivals, 0, kMaxCloseRivals)));
+	const int asked = std::clamp(box.config.symmetryTurns.closeRivals, 0, kMaxCloseRivals);
+	const size_t wanted = std::min(out.size(), static_cast<size_t>(asked));
 	const size_t found = box.pool.bestDistinctRivals(best.pose, box.model.mesh().vertices, distinctMm,
 							 std::span<RivalPose>(close, wanted));
 	size_t n = 0;
@@ -126,7 +126,7 @@ bool SymmetryRivalSource::compareWithBest(ProposalBox &box, const Pose &best, st
 	const ImageView<float> bestRender = box.workspace.slot(0).render;
 	for (int y = 0; y < reference.height; ++y)
 		std::copy_n(bestRender.row(y), reference.width, reference.row(y));
-	Rival *all[kMaxSymmetryTurns + kMaxCloseRivals];
+	Rival *all[kMaxSymmetryTurns];
 	const size_t n = std::min(rivals.size(), std::size(all));
 	for (size_t k = 0; k < n; ++k)
 		all[k] = &rivals[k];
@@ -154,11 +154,10 @@ void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best,
 		return;
 	// The turns the best does not clearly beat, the one the depth prefers
 	// most first.
-	Rival *undecided[kMaxSymmetryTurns + kMaxCloseRivals];
+	Rival *undecided[kMaxSymmetryTurns];
 	size_t nu = 0;
 	for (Rival &t : rivals)
-		if (t.turn && nu < std::size(undecided) &&
-		    !decisive(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg))
+		if (!decisive(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg))
 			undecided[nu++] = &t;
 	const auto ahead = [](const Rival *u) { return u->evidence.forB - u->evidence.forA; };
 	// Ties keep the turns' order (std::sort, not stable_sort: that one may allocate).
@@ -208,19 +207,44 @@ void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best,
 }
 
 const SymmetryRivalSource::Rival *SymmetryRivalSource::clearest(std::span<const Rival> rivals,
-								const SymmetryTurnConfig &cfg, bool closeRivals)
+								const SymmetryTurnConfig &cfg)
 {
 	const Rival *winner = nullptr;
 	for (const Rival &t : rivals) {
 		const PartEvidence &e = t.evidence;
-		if ((t.turn || closeRivals) && decisive(e.forB, e.forA, e.informative, cfg) &&
+		if (decisive(e.forB, e.forA, e.informative, cfg) &&
 		    (!winner || e.forB - e.forA > winner->evidence.forB - winner->evidence.forA))
 			winner = &t;
 	}
 	return winner;
 }
 
-Hypothesis SymmetryRivalSource::adopt(ProposalBox &box, const Hypothesis &current, const Rival &winner)
+Hypothesis SymmetryRivalSource::preferredCloseRival(ProposalBox &box, const Hypothesis &best,
+						    std::span<Rival> scratch)
+{
+	const int64_t start = box.planner.timer().last();
+	size_t n = closeRivalsOf(box, best, scratch.first(std::min<size_t>(scratch.size(), kMaxCloseRivals)));
+	if (!compareWithBest(box, best.pose, scratch.first(n)))
+		n = 0;
+	box.planner.observeStage(Stage::kCloseRivals, start, true);
+	const Rival *winner = clearest(scratch.first(n), box.config.symmetryTurns);
+	if (!winner)
+		return best;
+	// Taken only if, polished, its whole-silhouette score stays within
+	// closeLoss of the best's: on a real sensor's noise a pose turned well
+	// off can explain more of the pixels where the two differ and still fit
+	// the object worse.
+	const Hypothesis h = adopt(box, best, *winner, Stage::kCloseRivals);
+	if (h.score.score < best.score.score - box.config.symmetryTurns.closeLoss) {
+		box.pool.report(h, "close_rival_refused", 0);
+		return best;
+	}
+	box.pool.report(h, "close_rival", 0);
+	verdict_.turned = true;
+	return h;
+}
+
+Hypothesis SymmetryRivalSource::adopt(ProposalBox &box, const Hypothesis &current, const Rival &winner, Stage stage)
 {
 	if (winner.polished.valid)
 		return winner.polished;
@@ -233,7 +257,7 @@ Hypothesis SymmetryRivalSource::adopt(ProposalBox &box, const Hypothesis &curren
 	if (!box.config.icp)
 		return h;
 	Hypothesis polished[1];
-	box.polisher.polishAll(std::span<const Hypothesis>(&h, 1), polished, Stage::kSymmetryTurns);
+	box.polisher.polishAll(std::span<const Hypothesis>(&h, 1), polished, stage);
 	return polished[0].valid ? polished[0] : h;
 }
 
@@ -241,15 +265,15 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 {
 	verdict_ = {};
 	const SymmetryTurnConfig &cfg = box.config.symmetryTurns;
+	Rival rivals[kMaxSymmetryTurns];
 	Hypothesis current = best;
-	Rival rivals[kMaxSymmetryTurns + kMaxCloseRivals];
+	if (cfg.closeRivals > 0 && box.planner.optionalStageFits(Stage::kCloseRivals, box.config.budgetMargin))
+		current = preferredCloseRival(box, best, rivals);
 	for (int round = 0; round < std::max(cfg.rounds, 1); ++round) {
 		if (!box.planner.stageFits(Stage::kSymmetryTurns, box.config.budgetMargin, true))
 			break;
 		const int64_t start = box.planner.timer().last();
 		size_t n = turnsOf(box, current.pose, std::span<Rival>(rivals, kMaxSymmetryTurns));
-		if (round == 0)
-			n += closeRivalsOf(box, current, std::span<Rival>(rivals + n, kMaxCloseRivals));
 		if (!compareWithBest(box, current.pose, std::span<Rival>(rivals, n)))
 			n = 0;
 		box.planner.observeStage(Stage::kSymmetryTurns, start, true);
@@ -262,26 +286,12 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 		verdict_.compared = static_cast<int>(n);
 		verdict_.ambiguous = false;
 		verdict_.decisive = false;
-		// The rival the depth prefers most clearly, if any. A close rival
-		// is taken only if, polished, its whole-silhouette score stays
-		// within closeLoss of the best's: on a real sensor's noise a pose
-		// turned well off can explain more of the pixels where the two
-		// differ and still fit the object worse.
-		const bool last = round + 1 == std::max(cfg.rounds, 1);
-		const Rival *winner = clearest(std::span<const Rival>(rivals, n), cfg, !last);
-		Hypothesis next;
-		if (winner && !winner->turn && !last) {
-			next = adopt(box, current, *winner);
-			if (next.score.score < current.score.score - cfg.closeLoss) {
-				box.pool.report(next, "close_rival_refused", round);
-				next = {};
-				winner = clearest(std::span<const Rival>(rivals, n), cfg, false);
-			}
-		}
+		// The turn the depth prefers most clearly, if any.
+		const Rival *winner = clearest(std::span<const Rival>(rivals, n), cfg);
 		int distinctTurns = 0, beaten = 0;
 		for (size_t k = 0; k < n; ++k) {
 			const Rival &t = rivals[k];
-			if (!t.turn || !t.distinct)
+			if (!t.distinct)
 				continue;
 			++distinctTurns;
 			if (decisive(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg)) {
@@ -291,18 +301,16 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 				verdict_.axis = t.axis;
 			}
 		}
-		if (!winner || last) {
+		if (!winner || round + 1 == std::max(cfg.rounds, 1)) {
 			verdict_.decisive = distinctTurns > 0 && beaten == distinctTurns;
 			if (winner)
 				verdict_.ambiguous = true; // still a turn ahead when the rounds ran out
 			break;
 		}
-		// The preferred rival replaces the best, polished (unless it was
+		// The preferred turn replaces the best, polished (unless it was
 		// already); then its own turns are compared with it.
-		if (!next.valid)
-			next = adopt(box, current, *winner);
-		box.pool.report(next, winner->turn ? "symmetry_turn" : "close_rival", round);
-		current = next;
+		current = adopt(box, current, *winner, Stage::kSymmetryTurns);
+		box.pool.report(current, "symmetry_turn", round);
 		verdict_.turned = true;
 	}
 	return current;

@@ -6,16 +6,16 @@
 // every stepDeg about a continuous axis, the stored turn both ways round
 // about a discrete one), each compared with the best on the pixels where
 // their renders differ (part_evidence.h), not by the whole-silhouette score
-// on which they tie. The first comparison also takes the best's close
-// rivals: the best-scoring hypotheses distinct from it (the object
-// upside down and slid along its axis covers less of the depth but fits
-// what it covers as well as the truth, whose turn it is not). A rival that
-// the depth clearly prefers replaces the best (then polished, and compared
-// again with its own turns; a close rival only if its polished score stays
-// near the best's); the final comparison says whether the best
-// beat every distinct turn (decisive) or whether the depth cannot tell it
-// from one (the part hidden: ambiguous, with that turn's axis). Not in the
-// paper.
+// on which they tie. First, when the budget has room, the best is compared
+// the same way with its close rivals: the best-scoring hypotheses distinct
+// from it (the object upside down and slid along its axis covers less of
+// the depth but fits what it covers as well as the truth, whose turn it is
+// not); one the depth clearly prefers replaces it if, polished, it scores
+// nearly as well. A turn that the depth clearly prefers replaces the best
+// (then polished, and compared again with its own turns); the final
+// comparison says whether the best beat every distinct turn (decisive) or
+// whether the depth cannot tell it from one (the part hidden: ambiguous,
+// with that turn's axis). Not in the paper.
 
 #include <span>
 
@@ -33,6 +33,7 @@ inline constexpr int kMaxSymmetryTurns = 48;
 inline constexpr int kMaxSymmetryRivalsPolished = 8;
 // Close rivals compared at most.
 inline constexpr int kMaxCloseRivals = 8;
+static_assert(kMaxCloseRivals <= kMaxSymmetryTurns, "the close rivals are compared in the turns' storage");
 
 // What the last box's comparison found.
 struct SymmetryVerdict {
@@ -60,7 +61,6 @@ private:
 	struct Rival {
 		Pose pose;
 		Eigen::Vector3d axis = Eigen::Vector3d::Zero(); // a turn's, model frame
-		bool turn = false;
 		bool distinct = false; // its model points lie more than the confidence's distinct share away
 		PartEvidence evidence; // A: the best, B: the rival
 		Hypothesis polished;   // the rival polished, when it was
@@ -83,11 +83,13 @@ private:
 	// part the sensor sees, and is heard only once polished. A turn keeps
 	// whichever of its two comparisons favours it more.
 	static void polishRivals(ProposalBox &box, const Hypothesis &best, std::span<Rival> rivals);
-	// The rival the depth prefers most clearly over the best (of the turns
-	// alone unless closeRivals), or null.
-	static const Rival *clearest(std::span<const Rival> rivals, const SymmetryTurnConfig &cfg, bool closeRivals);
-	// The winner as a hypothesis, polished unless it was.
-	static Hypothesis adopt(ProposalBox &box, const Hypothesis &current, const Rival &winner);
+	// The rival the depth prefers most clearly over the best, or null.
+	static const Rival *clearest(std::span<const Rival> rivals, const SymmetryTurnConfig &cfg);
+	// The winner as a hypothesis, polished (under `stage`) unless it was.
+	static Hypothesis adopt(ProposalBox &box, const Hypothesis &current, const Rival &winner, Stage stage);
+	// best compared with its close rivals; the one the depth prefers, polished,
+	// if its score stays within SymmetryTurnConfig::closeLoss of best's, else best.
+	Hypothesis preferredCloseRival(ProposalBox &box, const Hypothesis &best, std::span<Rival> scratch);
 
 	SymmetryVerdict verdict_;
 };

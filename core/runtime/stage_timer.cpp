@@ -21,6 +21,7 @@ const char *stageName(Stage stage)
 	case Stage::kViews: return "views";
 	case Stage::kIcp: return "icp";
 	case Stage::kHalfTurns: return "half_turns";
+	case Stage::kCloseRivals: return "close_rivals";
 	case Stage::kSymmetryTurns: return "symmetry_turns";
 	case Stage::kCount: break;
 	}

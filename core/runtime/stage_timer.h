@@ -31,6 +31,7 @@ enum class Stage : uint8_t {
 	kViews,     // view-template rotation search at the best translations (optional)
 	kIcp,       // final ICP polish and its score
 	kHalfTurns, // half-turns of the polished best, scored and polished (optional)
+	kCloseRivals,   // a nearly symmetric object's best compared with its close rivals where they differ
 	kSymmetryTurns, // turns about a nearly symmetric object's axes, compared where they differ
 	kCount,
 };

@@ -3,7 +3,8 @@
 // a stage never measured is predicted free; a measured one fits only while
 // its cost bound is left in the box's share; a vote pass is refused when it
 // would leave no room for the planned searches and polish rounds, and a
-// pass or a search none for the stage kept last; polish
+// pass or a search none for the stage kept last; an optional stage fits
+// with a polish and the stage kept last after it; polish
 // and re-search refusals are counted apart from the boxes cut short; a lean
 // box's search is measured apart from the budget's own; forgetting the
 // counts keeps the cost models.
@@ -124,6 +125,27 @@ TEST(BudgetPlanner, PassesAndSearchesKeepRoomForTheStageKeptLast)
 	EXPECT_FALSE(p.searchFits(0, 0));
 	EXPECT_FALSE(p.researchFits(0, 0));
 	EXPECT_TRUE(p.stageFits(Stage::kSymmetryTurns, 0, false)); // the kept stage itself still fits
+}
+
+TEST(BudgetPlanner, AnOptionalStageFitsWithAPolishAndTheStageKeptLast)
+{
+	ManualClock clock;
+	BudgetPlanner p(&clock);
+	measureABox(p, clock, {{Stage::kCloseRivals, 1}, {Stage::kIcp, 2}, {Stage::kSymmetryTurns, 3}});
+
+	// 10 ms: with 7 left the close rivals (1), a polish (2) and the kept
+	// comparison (3) fit; with 5 left they do not, and the box is not
+	// counted as cut short: the kept stage still runs.
+	p.beginFrame(1, 10.0f);
+	p.beginBox();
+	p.plan(0, 0, Stage::kSymmetryTurns, 1);
+	clock.t += 3 * kMs;
+	EXPECT_TRUE(p.optionalStageFits(Stage::kCloseRivals, 0));
+	clock.t += 2 * kMs;
+	EXPECT_FALSE(p.optionalStageFits(Stage::kCloseRivals, 0));
+	EXPECT_FALSE(p.boxCut());
+	EXPECT_EQ(p.counters().budgetStops, 0u);
+	EXPECT_TRUE(p.stageFits(Stage::kSymmetryTurns, 0, false));
 }
 
 TEST(BudgetPlanner, PolishAndResearchRefusalsAreCountedApart)
