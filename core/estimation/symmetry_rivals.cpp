@@ -99,14 +99,18 @@ size_t SymmetryRivalSource::closeRivalsOf(ProposalBox &box, const Hypothesis &be
 {
 	const double distinctMm =
 		static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
-	RivalPose close[kMaxCloseRivals];
-	const int asked = std::clamp(box.config.symmetryTurns.closeRivals, 0, kMaxCloseRivals);
-	const size_t wanted = std::min(out.size(), static_cast<size_t>(asked));
-	const size_t found = box.pool.bestDistinctRivals(best.pose, box.model.mesh().vertices, distinctMm,
-							 std::span<RivalPose>(close, wanted));
+	const std::span<const Eigen::Vector3f> vertices = box.model.mesh().vertices;
+	// Twice as many asked for as wanted: the best's own turns among them
+	// are left to the turns' comparison, which also says when the depth
+	// cannot tell them apart.
+	RivalPose close[2 * kMaxCloseRivals];
+	const size_t wanted = std::min(out.size(), static_cast<size_t>(std::clamp(box.config.symmetryTurns.closeRivals, 0,
+										      kMaxCloseRivals)));
+	const size_t found = box.pool.bestDistinctRivals(best.pose, vertices, distinctMm,
+							 std::span<RivalPose>(close, 2 * wanted));
 	size_t n = 0;
-	for (size_t k = 0; k < found; ++k) {
-		if (!(close[k].pose.t.z() > 0))
+	for (size_t k = 0; k < found && n < wanted; ++k) {
+		if (!(close[k].pose.t.z() > 0) || isTurnOf(box, best.pose, close[k].pose, distinctMm))
 			continue;
 		Rival &c = out[n++];
 		c = {};
@@ -114,6 +118,25 @@ size_t SymmetryRivalSource::closeRivalsOf(ProposalBox &box, const Hypothesis &be
 		c.distinct = true;
 	}
 	return n;
+}
+
+bool SymmetryRivalSource::isTurnOf(const ProposalBox &box, const Pose &best, const Pose &pose, double distinctMm)
+{
+	// pose.R = best.R * Q; the turn about an axis is Q's twist about it.
+	const Eigen::Matrix3d q = best.R.transpose() * pose.R;
+	for (const NearSymmetry &s : box.model.nearSymmetries()) {
+		if (!s.continuous())
+			continue;
+		const Eigen::Vector3d axis = s.axis.cast<double>().normalized();
+		const Eigen::Vector3d u = axis.unitOrthogonal();
+		const Eigen::Vector3d turned = q * u;
+		const double twist = std::atan2(axis.dot(u.cross(turned)), u.dot(turned));
+		const Pose turnedBest =
+			turnedAbout(best, Eigen::AngleAxisd(twist, axis).toRotationMatrix(), s.point.cast<double>());
+		if (meanPoseDistance(box.model.mesh().vertices, turnedBest, pose) <= distinctMm)
+			return true;
+	}
+	return false;
 }
 
 bool SymmetryRivalSource::compareWithBest(ProposalBox &box, const Pose &best, std::span<Rival> rivals)

@@ -68,9 +68,13 @@ private:
 	// best's turns (at most out.size()); returns how many.
 	static size_t turnsOf(ProposalBox &box, const Pose &best, std::span<Rival> out);
 	// best's close rivals: the highest-scoring reported poses, each a
-	// distinct share away from it and from those taken before, at most
+	// distinct share away from it and from those taken before and none a
+	// turn of it about a near-symmetry axis, at most
 	// SymmetryTurnConfig::closeRivals and out.size(); returns how many.
 	static size_t closeRivalsOf(ProposalBox &box, const Hypothesis &best, std::span<Rival> out);
+	// Whether pose is, within distinctMm, one of best's turns (any angle
+	// about a continuous axis, the stored one about a discrete axis).
+	static bool isTurnOf(const ProposalBox &box, const Pose &best, const Pose &pose, double distinctMm);
 	// best rendered as the workspace's reference, and each rival compared
 	// with it; false when best cannot be rendered.
 	static bool compareWithBest(ProposalBox &box, const Pose &best, std::span<Rival> rivals);
