@@ -246,7 +246,7 @@ Hypothesis SymmetryRivalSource::preferredCloseRival(ProposalBox &box, const Hypo
 						    std::span<Rival> scratch)
 {
 	const int64_t start = box.planner.timer().last();
-	size_t n = closeRivalsOf(box, best, scratch.first(std::min<size_t>(scratch.size(), kMaxCloseRivals)));
+	size_t n = closeRivalsOf(box, best, scratch);
 	if (!compareWithBest(box, best.pose, scratch.first(n)))
 		n = 0;
 	box.planner.observeStage(Stage::kCloseRivals, start, true);

@@ -8,7 +8,7 @@
 // their renders differ (part_evidence.h), not by the whole-silhouette score
 // on which they tie. First, when the budget has room, the best is compared
 // the same way with its close rivals: the best-scoring hypotheses distinct
-// from it (the object upside down and slid along its axis covers less of
+// from it and not its turns about a continuous axis (the object upside down and slid along its axis covers less of
 // the depth but fits what it covers as well as the truth, whose turn it is
 // not); one the depth clearly prefers replaces it if, polished, it scores
 // nearly as well. A turn that the depth clearly prefers replaces the best
@@ -69,11 +69,13 @@ private:
 	static size_t turnsOf(ProposalBox &box, const Pose &best, std::span<Rival> out);
 	// best's close rivals: the highest-scoring reported poses, each a
 	// distinct share away from it and from those taken before and none a
-	// turn of it about a near-symmetry axis, at most
+	// turn of it about a continuous near-symmetry axis, at most
 	// SymmetryTurnConfig::closeRivals and out.size(); returns how many.
 	static size_t closeRivalsOf(ProposalBox &box, const Hypothesis &best, std::span<Rival> out);
-	// Whether pose is, within distinctMm, one of best's turns (any angle
-	// about a continuous axis, the stored one about a discrete axis).
+	// Whether pose is, within distinctMm, best turned by any angle about one
+	// of the model's continuous near-symmetry axes. Turns about a discrete
+	// axis stay close rivals: the polished pose fits better than the turn
+	// the comparison makes.
 	static bool isTurnOf(const ProposalBox &box, const Pose &best, const Pose &pose, double distinctMm);
 	// best rendered as the workspace's reference, and each rival compared
 	// with it; false when best cannot be rendered.

@@ -330,7 +330,7 @@ TEST_F(SymmetryTurns, ATurnAboutTheAxisIsLeftToTheTurns)
 	StageEvents replaced("close_rival");
 	SymmetryRivalSource source;
 	scene.observe(&replaced);
-	Hypothesis chosen = source.propose(scene.box(), best, {});
+	const Hypothesis chosen = source.propose(scene.box(), best, {});
 	EXPECT_TRUE(replaced.poses.empty());
 	EXPECT_LT(handleAngleDeg(chosen.pose, gt), 15.0);
 }
