@@ -1,12 +1,57 @@
 // SPDX-License-Identifier: MIT
 #include "core/estimation/part_evidence.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace ihf {
 
+namespace {
+
+// A surface is followed past the outline of what the two poses draw, in
+// each of eight directions, to the pixels 3 and 4 beyond it: past the few
+// pixels where a depth sensor blurs an edge (a structured-light matcher's
+// half window, the fattening of the nearer surface). An outline farther
+// than kMaxWalk pixels away is not followed.
+constexpr int kBeyondNear = 3, kBeyondFar = 4, kMaxWalk = 16;
+
+// Whether the surface the sensor sees at (x, y), at depth o, goes on past
+// both poses' outlines: of the observed pixels found there that neither
+// pose draws, more lie at o's depth than away from it (a table behind the
+// object, an occluder). A part drawn there explains a surface that is
+// there anyway. A part the sensor really sees ends at its outline, where
+// the depth jumps to the background's.
+bool surfaceGoesOn(ImageView<const float> observed, ImageView<const float> renderA,
+		   ImageView<const float> renderB, int x, int y, float o, float toleranceMm)
+{
+	const auto inside = [&](int u, int v) { return u >= 0 && v >= 0 && u < observed.width && v < observed.height; };
+	const auto drawn = [&](int u, int v) { return renderA.at(u, v) > 0 || renderB.at(u, v) > 0; };
+	int same = 0, other = 0;
+	for (int dy = -1; dy <= 1; ++dy)
+		for (int dx = -1; dx <= 1; ++dx) {
+			if (dx == 0 && dy == 0)
+				continue;
+			int outline = 1;
+			while (outline <= kMaxWalk && inside(x + dx * outline, y + dy * outline) &&
+			       drawn(x + dx * outline, y + dy * outline))
+				++outline;
+			for (int k = outline + kBeyondNear; k <= outline + kBeyondFar && outline <= kMaxWalk; ++k) {
+				const int u = x + dx * k, v = y + dy * k;
+				if (!inside(u, v) || drawn(u, v) || !(observed.at(u, v) > 0))
+					continue;
+				if (std::abs(observed.at(u, v) - o) <= toleranceMm)
+					++same;
+				else
+					++other;
+			}
+		}
+	return same > other;
+}
+
+} // namespace
+
 PartEvidence comparePoseRenders(ImageView<const float> observed, ImageView<const float> renderA,
-				ImageView<const float> renderB, float toleranceMm)
+				ImageView<const float> renderB, float toleranceMm, bool followSurfaces)
 {
 	PartEvidence e;
 	for (int y = 0; y < observed.height; ++y)
@@ -26,6 +71,11 @@ PartEvidence comparePoseRenders(ImageView<const float> observed, ImageView<const
 			const bool forA = (explainsA && !explainsB) || (throughB && !throughA);
 			const bool forB = (explainsB && !explainsA) || (throughA && !throughB);
 			if (forA == forB)
+				continue;
+			// A part that explains the depth where the other pose draws
+			// nothing is evidence only where that surface is its own.
+			if (followSurfaces && !(forA ? drawnB : drawnA) &&
+			    surfaceGoesOn(observed, renderA, renderB, x, y, o, toleranceMm))
 				continue;
 			++e.informative;
 			if (forA)

@@ -13,7 +13,15 @@
 // that explains it (its render within toleranceMm of the depth) and the
 // other does not, or against a pose the sensor sees through (the depth lies
 // behind its render). A pixel observed in front of both (an occluder) or
-// not observed is no evidence either way.
+// not observed is no evidence either way. Nor is a part drawn where the
+// other pose draws nothing, explaining a surface that goes on past both
+// outlines at the part's depth (a table just behind the cup, an occluder):
+// a handle turned onto such a surface would otherwise win a comparison
+// that the depth cannot settle. That check follows the surface past the
+// outlines from each such pixel, so it is asked for (followSurfaces) where
+// the poses differ by a part: a pose and its turns. Poses apart over their
+// whole silhouettes (close rivals) differ on too many pixels for it, and
+// their comparison measured the same without it.
 
 #include "core/common/image.h"
 
@@ -28,6 +36,6 @@ struct PartEvidence {
 
 // observed, renderA and renderB: the same window, 0 = no depth / not drawn.
 PartEvidence comparePoseRenders(ImageView<const float> observed, ImageView<const float> renderA,
-				ImageView<const float> renderB, float toleranceMm);
+				ImageView<const float> renderB, float toleranceMm, bool followSurfaces);
 
 } // namespace ihf

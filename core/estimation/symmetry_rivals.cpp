@@ -139,7 +139,7 @@ bool SymmetryRivalSource::isTurnOf(const ProposalBox &box, const Pose &best, con
 	return false;
 }
 
-bool SymmetryRivalSource::compareWithBest(ProposalBox &box, const Pose &best, std::span<Rival> rivals)
+bool SymmetryRivalSource::compareWithBest(ProposalBox &box, const Pose &best, std::span<Rival> rivals, bool turns)
 {
 	// The best's render kept; each rival rendered on its thread's slot and
 	// compared with it.
@@ -153,11 +153,11 @@ bool SymmetryRivalSource::compareWithBest(ProposalBox &box, const Pose &best, st
 	const size_t n = std::min(rivals.size(), std::size(all));
 	for (size_t k = 0; k < n; ++k)
 		all[k] = &rivals[k];
-	compareWithReference(box, std::span<Rival *>(all, n));
+	compareWithReference(box, std::span<Rival *>(all, n), turns);
 	return true;
 }
 
-void SymmetryRivalSource::compareWithReference(ProposalBox &box, std::span<Rival *> rivals)
+void SymmetryRivalSource::compareWithReference(ProposalBox &box, std::span<Rival *> rivals, bool turns)
 {
 	const ImageView<const float> reference = box.workspace.reference();
 	const ImageView<const float> observed = box.scorer.window().observed;
@@ -166,7 +166,8 @@ void SymmetryRivalSource::compareWithReference(ProposalBox &box, std::span<Rival
 		Rival &t = *rivals[static_cast<size_t>(k)];
 		t.evidence = {};
 		if (box.scorer.render(t.pose, slot))
-			t.evidence = comparePoseRenders(observed, reference, box.workspace.slot(slot).render, tolerance);
+			t.evidence =
+				comparePoseRenders(observed, reference, box.workspace.slot(slot).render, tolerance, turns);
 	});
 }
 
@@ -218,7 +219,7 @@ void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best,
 		t.polished = out[j];
 		picked[moved++] = &t;
 	}
-	compareWithReference(box, std::span<Rival *>(picked, moved));
+	compareWithReference(box, std::span<Rival *>(picked, moved), true);
 	// Each turn is judged as the depth likes it best, polished or not: the
 	// polish gives a rival its chance, and does not hide one the best does
 	// not beat.
@@ -247,7 +248,7 @@ Hypothesis SymmetryRivalSource::preferredCloseRival(ProposalBox &box, const Hypo
 {
 	const int64_t start = box.planner.timer().last();
 	size_t n = closeRivalsOf(box, best, scratch);
-	if (!compareWithBest(box, best.pose, scratch.first(n)))
+	if (!compareWithBest(box, best.pose, scratch.first(n), false))
 		n = 0;
 	box.planner.observeStage(Stage::kCloseRivals, start, true);
 	const Rival *winner = clearest(scratch.first(n), box.config.symmetryTurns);
@@ -297,7 +298,7 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 			break;
 		const int64_t start = box.planner.timer().last();
 		size_t n = turnsOf(box, current.pose, std::span<Rival>(rivals, kMaxSymmetryTurns));
-		if (!compareWithBest(box, current.pose, std::span<Rival>(rivals, n)))
+		if (!compareWithBest(box, current.pose, std::span<Rival>(rivals, n), true))
 			n = 0;
 		box.planner.observeStage(Stage::kSymmetryTurns, start, true);
 		// The rivals' polish is a polish round of its own (polishFits()):

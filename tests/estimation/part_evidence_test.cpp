@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Two poses compared where their renders differ: a part only one draws is
 // evidence for it where the depth shows the part, and against it where the
-// depth lies behind; an occluder in front of both, or no depth, is none.
+// depth lies behind; an occluder in front of both, or no depth, is none,
+// and so is a surface that goes on beyond the part at its depth.
 
 #include <vector>
 
@@ -12,16 +13,16 @@
 namespace ihf {
 namespace {
 
-constexpr int kW = 20, kH = 10;
+constexpr int kW = 40, kH = 20;
 
 struct Images {
 	std::vector<float> observed = std::vector<float>(kW * kH, 900.0f); // the wall behind
 	std::vector<float> a = std::vector<float>(kW * kH, 0.0f);
 	std::vector<float> b = std::vector<float>(kW * kH, 0.0f);
 
-	static void fill(std::vector<float> &img, int x0, int x1, float depth)
+	static void fill(std::vector<float> &img, int x0, int x1, float depth, int y0 = 0, int y1 = kH)
 	{
-		for (int y = 0; y < kH; ++y)
+		for (int y = y0; y < y1; ++y)
 			for (int x = x0; x < x1; ++x)
 				img[static_cast<size_t>(y * kW + x)] = depth;
 	}
@@ -29,29 +30,31 @@ struct Images {
 	{
 		return comparePoseRenders(ImageView<const float>(observed.data(), kW, kH),
 					  ImageView<const float>(a.data(), kW, kH),
-					  ImageView<const float>(b.data(), kW, kH), 10.0f);
+					  ImageView<const float>(b.data(), kW, kH), 10.0f, true);
 	}
 };
 
-// A body both draw (columns 5-14), A's handle on the left (2-4), B's on the
-// right (15-17); the sensor sees A's.
+// A body both draw (columns 15-24), A's handle on the left (12-14), B's on
+// the right (25-27), each over rows 5-14; the sensor sees A's.
+constexpr int kHandleTop = 5, kHandleBottom = 15, kHandleRows = kHandleBottom - kHandleTop;
+
 Images cupScene()
 {
 	Images s;
-	Images::fill(s.a, 5, 15, 600.0f);
-	Images::fill(s.b, 5, 15, 603.0f); // within the tolerance: no difference
-	Images::fill(s.a, 2, 5, 590.0f);
-	Images::fill(s.b, 15, 18, 590.0f);
-	Images::fill(s.observed, 5, 15, 601.0f);
-	Images::fill(s.observed, 2, 5, 592.0f);
+	Images::fill(s.a, 15, 25, 600.0f);
+	Images::fill(s.b, 15, 25, 603.0f); // within the tolerance: no difference
+	Images::fill(s.a, 12, 15, 590.0f, kHandleTop, kHandleBottom);
+	Images::fill(s.b, 25, 28, 590.0f, kHandleTop, kHandleBottom);
+	Images::fill(s.observed, 15, 25, 601.0f);
+	Images::fill(s.observed, 12, 15, 592.0f, kHandleTop, kHandleBottom);
 	return s;
 }
 
 TEST(PartEvidence, ThePartSeenAndThePartSeenThroughBothFavourTheRightPose)
 {
 	const PartEvidence e = cupScene().compare();
-	EXPECT_EQ(e.differing, 2 * 3 * kH);   // both handles' columns, nothing of the body
-	EXPECT_EQ(e.forA, 2 * 3 * kH);        // A's handle explained, B's seen through
+	EXPECT_EQ(e.differing, 2 * 3 * kHandleRows);   // both handles' columns, nothing of the body
+	EXPECT_EQ(e.forA, 2 * 3 * kHandleRows);        // A's handle explained, B's seen through
 	EXPECT_EQ(e.forB, 0);
 	EXPECT_EQ(e.informative, e.forA);
 	// Swapped, the evidence swaps.
@@ -62,13 +65,40 @@ TEST(PartEvidence, ThePartSeenAndThePartSeenThroughBothFavourTheRightPose)
 	EXPECT_EQ(swapped.forA, 0);
 }
 
+TEST(PartEvidence, APartLyingOnASurfaceThatGoesOnIsNoEvidenceForIt)
+{
+	// A table at the depth of A's handle, going on to its left beyond
+	// both outlines: A's handle explains depth that is there anyway. B's
+	// handle, seen through, still counts against B.
+	Images s = cupScene();
+	Images::fill(s.observed, 0, 15, 592.0f, kHandleTop - 5, kHandleBottom + 5);
+	const PartEvidence e = s.compare();
+	EXPECT_EQ(e.differing, 2 * 3 * kHandleRows);
+	EXPECT_EQ(e.forA, 3 * kHandleRows);
+	EXPECT_EQ(e.forB, 0);
+	EXPECT_EQ(e.informative, 3 * kHandleRows);
+}
+
+TEST(PartEvidence, APartWhoseEdgeTheSensorBlursStillCounts)
+{
+	// The sensor bleeds the handle's depth two pixels past its outline;
+	// beyond that lies the wall.
+	Images s = cupScene();
+	Images::fill(s.observed, 10, 12, 592.0f, kHandleTop - 2, kHandleBottom + 2);
+	Images::fill(s.observed, 12, 15, 592.0f, kHandleTop - 2, kHandleTop);
+	Images::fill(s.observed, 12, 15, 592.0f, kHandleBottom, kHandleBottom + 2);
+	const PartEvidence e = s.compare();
+	EXPECT_EQ(e.forA, 2 * 3 * kHandleRows);
+	EXPECT_EQ(e.forB, 0);
+}
+
 TEST(PartEvidence, AnOccluderOrMissingDepthIsNoEvidence)
 {
 	Images s = cupScene();
-	Images::fill(s.observed, 0, 5, 300.0f);   // something in front of A's handle
-	Images::fill(s.observed, 15, 20, 0.0f);   // no depth where B's handle would be
+	Images::fill(s.observed, 10, 15, 300.0f); // something in front of A's handle
+	Images::fill(s.observed, 25, 30, 0.0f);   // no depth where B's handle would be
 	const PartEvidence e = s.compare();
-	EXPECT_EQ(e.differing, 2 * 3 * kH);
+	EXPECT_EQ(e.differing, 2 * 3 * kHandleRows);
 	EXPECT_EQ(e.informative, 0);
 	EXPECT_EQ(e.forA, 0);
 	EXPECT_EQ(e.forB, 0);
@@ -78,9 +108,9 @@ TEST(PartEvidence, AHiddenPartLeavesNothingToCompare)
 {
 	// Neither pose draws a part in view: the renders agree everywhere.
 	Images s;
-	Images::fill(s.a, 5, 15, 600.0f);
-	Images::fill(s.b, 5, 15, 600.0f);
-	Images::fill(s.observed, 5, 15, 600.0f);
+	Images::fill(s.a, 15, 25, 600.0f);
+	Images::fill(s.b, 15, 25, 600.0f);
+	Images::fill(s.observed, 15, 25, 600.0f);
 	const PartEvidence e = s.compare();
 	EXPECT_EQ(e.differing, 0);
 	EXPECT_EQ(e.informative, 0);
