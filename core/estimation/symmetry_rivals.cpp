@@ -47,11 +47,6 @@ double meanPoseDistance(std::span<const Eigen::Vector3f> vertices, const Pose &a
 	});
 }
 
-bool decisive(int ahead, int behind, int informative, const SymmetryTurnConfig &c)
-{
-	return ahead - behind >= std::max(c.minPixels, static_cast<int>(std::ceil(c.decisiveShare * informative)));
-}
-
 } // namespace
 
 bool SymmetryRivalSource::enabled(const ProposalBox &box) const
@@ -181,7 +176,7 @@ void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best,
 	Rival *undecided[kMaxSymmetryTurns];
 	size_t nu = 0;
 	for (Rival &t : rivals)
-		if (!decisive(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg))
+		if (!decisivelyBy(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg))
 			undecided[nu++] = &t;
 	const auto ahead = [](const Rival *u) { return u->evidence.forB - u->evidence.forA; };
 	// Ties keep the turns' order (std::sort, not stable_sort: that one may allocate).
@@ -236,7 +231,7 @@ const SymmetryRivalSource::Rival *SymmetryRivalSource::clearest(std::span<const 
 	const Rival *winner = nullptr;
 	for (const Rival &t : rivals) {
 		const PartEvidence &e = t.evidence;
-		if (decisive(e.forB, e.forA, e.informative, cfg) &&
+		if (preferredBy(e.forB, e.forA, e.informative, cfg) &&
 		    (!winner || e.forB - e.forA > winner->evidence.forB - winner->evidence.forA))
 			winner = &t;
 	}
@@ -318,7 +313,7 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 			if (!t.distinct)
 				continue;
 			++distinctTurns;
-			if (decisive(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg)) {
+			if (decisivelyBy(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg)) {
 				++beaten;
 			} else if (!verdict_.ambiguous) {
 				verdict_.ambiguous = true;
