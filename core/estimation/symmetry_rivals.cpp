@@ -273,7 +273,9 @@ Hypothesis SymmetryRivalSource::adopt(ProposalBox &box, const Hypothesis &curren
 	h.score = box.scorer.score(h.pose);
 	h.origin = current.origin;
 	h.iteration = current.iteration;
-	if (!box.config.icp)
+	// Inside a budget the polish must fit: the turn itself is exact about
+	// the axis, and the time is the final polish's.
+	if (!box.config.icp || !box.planner.polishFits(box.config.budgetMargin))
 		return h;
 	Hypothesis polished[1];
 	box.polisher.polishAll(std::span<const Hypothesis>(&h, 1), polished, stage);
