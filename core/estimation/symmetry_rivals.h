@@ -8,14 +8,16 @@
 // their renders differ (part_evidence.h), not by the whole-silhouette score
 // on which they tie. First, when the budget has room, the best is compared
 // the same way with its close rivals: the best-scoring hypotheses distinct
-// from it and not its turns about a continuous axis (the object upside down and slid along its axis covers less of
-// the depth but fits what it covers as well as the truth, whose turn it is
-// not); one the depth clearly prefers replaces it if, polished, it scores
-// nearly as well. A turn that the depth clearly prefers replaces the best
-// (then polished, and compared again with its own turns); the final
-// comparison says whether the best beat every distinct turn (decisive) or
-// whether the depth cannot tell it from one (the part hidden: ambiguous,
-// with that turn's axis). Not in the paper.
+// from it and not its turns about a continuous axis (the object upside
+// down and slid along its axis covers less of the depth but fits what it
+// covers as well as the truth, whose turn it is not); one the depth
+// favours replaces it if, polished, it scores nearly as well. A turn the
+// depth favours (its part pixels ahead two to one, preferredBy())
+// replaces the best (then polished, when a polish fits the budget, and
+// compared again with its own turns); the final comparison says whether
+// the best beat every distinct turn three to one (decisivelyBy():
+// decisive) or not (the part hidden: ambiguous, with that turn's axis).
+// Not in the paper.
 
 #include <span>
 
