@@ -35,11 +35,16 @@ bool surfaceGoesOn(ImageView<const float> observed, ImageView<const float> rende
 			while (outline <= kMaxWalk && inside(x + dx * outline, y + dy * outline) &&
 			       drawn(x + dx * outline, y + dy * outline))
 				++outline;
-			for (int k = outline + kBeyondNear; k <= outline + kBeyondFar && outline <= kMaxWalk; ++k) {
+			if (outline > kMaxWalk)
+				continue;
+			for (int k = outline + kBeyondNear; k <= outline + kBeyondFar; ++k) {
 				const int u = x + dx * k, v = y + dy * k;
-				if (!inside(u, v) || drawn(u, v) || !(observed.at(u, v) > 0))
+				if (!inside(u, v) || drawn(u, v))
 					continue;
-				if (std::abs(observed.at(u, v) - o) <= toleranceMm)
+				const float n = observed.at(u, v);
+				if (!(n > 0))
+					continue;
+				if (std::abs(n - o) <= toleranceMm)
 					++same;
 				else
 					++other;

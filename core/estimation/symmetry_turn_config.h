@@ -16,8 +16,8 @@ struct SymmetryTurnConfig {
 	int polishRivals = 2;   // turns the best does not clearly beat, polished and compared again
 	int closeRivals = 4;    // the best-scoring distinct hypotheses, compared with the best before its turns
 	float closeLoss = 0.05f; // a winning close rival replaces the best if, polished, it scores at most this less
-	int minPixels = 12;     // evidence this many pixels ahead is decisive,
-	float decisiveShare = 0.5f; // and this share of the informative pixels
+	int minPixels = 12;     // a lead of fewer pixels neither replaces the best nor decides
+	float decisiveShare = 0.5f; // the best is certain this share of the informative pixels ahead (three to one)
 	float preferShare = 0.34f;  // a rival this share ahead replaces the best (two to one)
 	float ambiguousConfidence = 0.5f; // an ambiguous pose's confidence is scaled by this
 };
