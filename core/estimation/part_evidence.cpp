@@ -56,7 +56,7 @@ bool surfaceGoesOn(ImageView<const float> observed, ImageView<const float> rende
 } // namespace
 
 PartEvidence comparePoseRenders(ImageView<const float> observed, ImageView<const float> renderA,
-				ImageView<const float> renderB, float toleranceMm, bool followSurfaces)
+				ImageView<const float> renderB, float toleranceMm, PoseDifference difference)
 {
 	PartEvidence e;
 	for (int y = 0; y < observed.height; ++y)
@@ -79,7 +79,7 @@ PartEvidence comparePoseRenders(ImageView<const float> observed, ImageView<const
 				continue;
 			// A part that explains the depth where the other pose draws
 			// nothing is evidence only where that surface is its own.
-			if (followSurfaces && !(forA ? drawnB : drawnA) &&
+			if (difference == PoseDifference::kPart && !(forA ? drawnB : drawnA) &&
 			    surfaceGoesOn(observed, renderA, renderB, x, y, o, toleranceMm))
 				continue;
 			++e.informative;

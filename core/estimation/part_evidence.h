@@ -18,14 +18,21 @@
 // outlines at the part's depth (a table just behind the cup, an occluder):
 // a handle turned onto such a surface would otherwise win a comparison
 // that the depth cannot settle. That check follows the surface past the
-// outlines from each such pixel, so it is asked for (followSurfaces) where
-// the poses differ by a part: a pose and its turns. Poses apart over their
+// outlines from each such pixel, so it is asked for (PoseDifference::kPart)
+// where the poses differ by a part: a pose and its turns. Poses apart over their
 // whole silhouettes (close rivals) differ on too many pixels for it, and
 // their comparison measured the same without it.
 
 #include "core/common/image.h"
 
 namespace ihf {
+
+// How two compared poses differ, which says whether a part drawn where
+// the other pose draws nothing is checked for a surface going on past it.
+enum class PoseDifference {
+	kPart,       // a pose and its turn: the check runs
+	kSilhouette, // close rivals, apart over their whole outlines: it does not
+};
 
 struct PartEvidence {
 	int differing = 0;   // pixels where the renders differ
@@ -36,6 +43,6 @@ struct PartEvidence {
 
 // observed, renderA and renderB: the same window, 0 = no depth / not drawn.
 PartEvidence comparePoseRenders(ImageView<const float> observed, ImageView<const float> renderA,
-				ImageView<const float> renderB, float toleranceMm, bool followSurfaces);
+				ImageView<const float> renderB, float toleranceMm, PoseDifference difference);
 
 } // namespace ihf

@@ -134,7 +134,8 @@ bool SymmetryRivalSource::isTurnOf(const ProposalBox &box, const Pose &best, con
 	return false;
 }
 
-bool SymmetryRivalSource::compareWithBest(ProposalBox &box, const Pose &best, std::span<Rival> rivals, bool turns)
+bool SymmetryRivalSource::compareWithBest(ProposalBox &box, const Pose &best, std::span<Rival> rivals,
+					  PoseDifference difference)
 {
 	// The best's render kept; each rival rendered on its thread's slot and
 	// compared with it.
@@ -148,11 +149,12 @@ bool SymmetryRivalSource::compareWithBest(ProposalBox &box, const Pose &best, st
 	const size_t n = std::min(rivals.size(), std::size(all));
 	for (size_t k = 0; k < n; ++k)
 		all[k] = &rivals[k];
-	compareWithReference(box, std::span<Rival *>(all, n), turns);
+	compareWithReference(box, std::span<Rival *>(all, n), difference);
 	return true;
 }
 
-void SymmetryRivalSource::compareWithReference(ProposalBox &box, std::span<Rival *> rivals, bool turns)
+void SymmetryRivalSource::compareWithReference(ProposalBox &box, std::span<Rival *> rivals,
+					       PoseDifference difference)
 {
 	const ImageView<const float> reference = box.workspace.reference();
 	const ImageView<const float> observed = box.scorer.window().observed;
@@ -162,7 +164,7 @@ void SymmetryRivalSource::compareWithReference(ProposalBox &box, std::span<Rival
 		t.evidence = {};
 		if (box.scorer.render(t.pose, slot))
 			t.evidence =
-				comparePoseRenders(observed, reference, box.workspace.slot(slot).render, tolerance, turns);
+				comparePoseRenders(observed, reference, box.workspace.slot(slot).render, tolerance, difference);
 	});
 }
 
@@ -214,7 +216,7 @@ void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best,
 		t.polished = out[j];
 		picked[moved++] = &t;
 	}
-	compareWithReference(box, std::span<Rival *>(picked, moved), true);
+	compareWithReference(box, std::span<Rival *>(picked, moved), PoseDifference::kPart);
 	// Each turn is judged as the depth likes it best, polished or not: the
 	// polish gives a rival its chance, and does not hide one the best does
 	// not beat.
@@ -243,7 +245,7 @@ Hypothesis SymmetryRivalSource::preferredCloseRival(ProposalBox &box, const Hypo
 {
 	const int64_t start = box.planner.timer().last();
 	size_t n = closeRivalsOf(box, best, scratch);
-	if (!compareWithBest(box, best.pose, scratch.first(n), false))
+	if (!compareWithBest(box, best.pose, scratch.first(n), PoseDifference::kSilhouette))
 		n = 0;
 	box.planner.observeStage(Stage::kCloseRivals, start, true);
 	const Rival *winner = clearest(scratch.first(n), box.config.symmetryTurns);
@@ -295,7 +297,7 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 			break;
 		const int64_t start = box.planner.timer().last();
 		size_t n = turnsOf(box, current.pose, std::span<Rival>(rivals, kMaxSymmetryTurns));
-		if (!compareWithBest(box, current.pose, std::span<Rival>(rivals, n), true))
+		if (!compareWithBest(box, current.pose, std::span<Rival>(rivals, n), PoseDifference::kPart))
 			n = 0;
 		box.planner.observeStage(Stage::kSymmetryTurns, start, true);
 		// The rivals' polish is a polish round of its own (polishFits()):

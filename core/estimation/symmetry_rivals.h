@@ -80,12 +80,13 @@ private:
 	// the comparison makes.
 	static bool isTurnOf(const ProposalBox &box, const Pose &best, const Pose &pose, double distinctMm);
 	// best rendered as the workspace's reference, and each rival compared
-	// with it; false when best cannot be rendered. turns: the rivals are
-	// best's turns, told apart by a part (comparePoseRenders'
-	// followSurfaces).
-	static bool compareWithBest(ProposalBox &box, const Pose &best, std::span<Rival> rivals, bool turns);
+	// with it; false when best cannot be rendered. difference: how the
+	// rivals differ from best (best's turns by a part, close rivals over
+	// their silhouettes).
+	static bool compareWithBest(ProposalBox &box, const Pose &best, std::span<Rival> rivals,
+				    PoseDifference difference);
 	// Each rival rendered and compared with the reference.
-	static void compareWithReference(ProposalBox &box, std::span<Rival *> rivals, bool turns);
+	static void compareWithReference(ProposalBox &box, std::span<Rival *> rivals, PoseDifference difference);
 	// The turns the best does not clearly beat, at most
 	// SymmetryTurnConfig::polishRivals of them, the one the depth prefers
 	// most first, polished and compared again: the turn of a best that is

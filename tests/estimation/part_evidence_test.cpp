@@ -27,11 +27,11 @@ struct Images {
 			for (int x = x0; x < x1; ++x)
 				img[static_cast<size_t>(y * kW + x)] = depth;
 	}
-	PartEvidence compare() const
+	PartEvidence compare(PoseDifference difference = PoseDifference::kPart) const
 	{
 		return comparePoseRenders(ImageView<const float>(observed.data(), kW, kH),
 					  ImageView<const float>(a.data(), kW, kH),
-					  ImageView<const float>(b.data(), kW, kH), 10.0f, true);
+					  ImageView<const float>(b.data(), kW, kH), 10.0f, difference);
 	}
 };
 
@@ -78,6 +78,10 @@ TEST(PartEvidence, APartLyingOnASurfaceThatGoesOnIsNoEvidenceForIt)
 	EXPECT_EQ(e.forA, 3 * kHandleRows);
 	EXPECT_EQ(e.forB, 0);
 	EXPECT_EQ(e.informative, 3 * kHandleRows);
+	// Poses apart over their silhouettes are not checked for it.
+	const PartEvidence whole = s.compare(PoseDifference::kSilhouette);
+	EXPECT_EQ(whole.forA, 2 * 3 * kHandleRows);
+	EXPECT_EQ(whole.forB, 0);
 }
 
 TEST(PartEvidence, APartWhoseEdgeTheSensorBlursStillCounts)
