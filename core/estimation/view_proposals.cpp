@@ -36,9 +36,10 @@ int votedCentres(const EstimatorConfig &config)
 }
 
 size_t searchScored(ProposalBox &box, const Eigen::Vector3d &centre, float anchor, const char *stage,
-		    std::span<Hypothesis> out)
+		    std::span<Hypothesis> out, bool bySize)
 {
-	const ViewSearchConfig vc = viewScoring(box.config); // under a budget: underBudget()'s already
+	ViewSearchConfig vc = viewScoring(box.config); // under a budget: underBudget()'s already
+	vc.placeBySize = bySize;
 	ViewProposal top[kMaxViewKeep];
 	const size_t keepN = std::min(out.size(), static_cast<size_t>(kMaxViewKeep));
 	const size_t n = searchViews(box.model.viewTemplates(), vc, box.scorer.window().observed, box.scorer.intrinsics(),
@@ -127,7 +128,7 @@ Hypothesis ViewTemplateSource::propose(ProposalBox &box, const Hypothesis &, std
 	int searched = 0;
 	// One search, if it fits; its proposals are kept. False when it did not
 	// fit (and the rest are off).
-	auto searchAt = [&](const Eigen::Vector3d &centre, float anchor, const char *stage) {
+	auto searchAt = [&](const Eigen::Vector3d &centre, float anchor, const char *stage, bool bySize = false) {
 		const bool first = searched++ == 0;
 		if (!planner.searchFits(config.budgetMargin, config.icp && !first ? config.views.budgetPolishRounds : 0)) {
 			if (first)
@@ -136,7 +137,7 @@ Hypothesis ViewTemplateSource::propose(ProposalBox &box, const Hypothesis &, std
 		}
 		const int64_t start = planner.timer().last();
 		Hypothesis found[kMaxViewKeep];
-		const size_t n = searchScored(box, centre, anchor, stage, std::span<Hypothesis>(found, keepN));
+		const size_t n = searchScored(box, centre, anchor, stage, std::span<Hypothesis>(found, keepN), bySize);
 		for (size_t j = 0; j < n; ++j) {
 			box.pool.keep(found[j]);
 			takeBetter(best, found[j]);
@@ -156,11 +157,18 @@ Hypothesis ViewTemplateSource::propose(ProposalBox &box, const Hypothesis &, std
 				return false;
 		return true;
 	};
+	// Last, in a box trusted on both axes, each rotation placed by the
+	// box's size (seeded at the first anchor's depth): an object mostly
+	// behind an occluder, which holds the votes and the anchors.
+	auto byBoxSize = [&]() {
+		return !(config.views.boxSizeSearch && na > 0 && box.axes.x && box.axes.y) ||
+		       searchAt(Eigen::Vector3d::Zero(), anchors[0], "view_box", true);
+	};
 	if (config.views.depthFirst) {
-		if (fromDepth())
-			voted();
-	} else if (voted()) {
-		fromDepth();
+		if (fromDepth() && voted())
+			byBoxSize();
+	} else if (voted() && fromDepth()) {
+		byBoxSize();
 	}
 	return best;
 }

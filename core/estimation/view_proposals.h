@@ -20,11 +20,13 @@ size_t viewKeep(const EstimatorConfig &config);
 // Voted translations a box searches (ViewSearchConfig::centres).
 int votedCentres(const EstimatorConfig &config);
 
-// One view search at `centre` (anchored in depth when anchor > 0): its
-// proposals scored in full and reported under `stage`, into out (at most
-// out.size()); returns how many.
+// One view search at `centre` (anchored in depth when anchor > 0; with
+// bySize each rotation placed by the box's size instead, the anchor only
+// seeding it: ViewSearchConfig::placeBySize): its proposals scored in full
+// and reported under `stage`, into out (at most out.size()); returns how
+// many.
 size_t searchScored(ProposalBox &box, const Eigen::Vector3d &centre, float anchor, const char *stage,
-		    std::span<Hypothesis> out);
+		    std::span<Hypothesis> out, bool bySize = false);
 
 class ViewTemplateSource : public ProposalSource
 {

@@ -72,7 +72,11 @@ public:
 		float *const kept = all ? all : scratch.data();
 		float *const shifted = res ? res : scratch.data();
 		const float *const obs = obs_.data;
+		// Placed by the box's size, the object is where the box says and
+		// may be behind what the sensor saw there: only residuals from the
+		// inlier band behind move it (one seen in front is an occluder).
 		const float maxShift = res ? cfg_.maxShiftMm : -1.0f;
+		const float minShift = res ? (cfg_.placeBySize ? -cfg_.inlierMm : -cfg_.maxShiftMm) : 1.0f;
 		int compared = 0;
 		for (int i = 0; i < v.n; ++i) {
 			const int p = pixel[i];
@@ -82,7 +86,7 @@ public:
 			kept[compared] = e;
 			compared += valid;
 			shifted[k.residuals] = e;
-			k.residuals += valid & (std::abs(e) < maxShift);
+			k.residuals += valid & (e > minShift) & (e < maxShift);
 			classifyIf(k, e, valid);
 		}
 		return k;
@@ -201,6 +205,17 @@ public:
 		out.y() -= (offset(e.w0, e.w1, cy_, obs_.height, box_.y, box_.open.top, box_.open.bottom) - sy * (e.w1 - e.w0)) *
 			   t.z() / fy_;
 		return out;
+	}
+
+	// t moved along its ray to the depth where the extent (at t) fills the
+	// window: the extent shrinks as the depth grows, by the geometric mean
+	// of its two sides' ratios to the window's.
+	Eigen::Vector3f sized(const Extent &e, const Eigen::Vector3f &t) const
+	{
+		if (e.behind || !(e.u1 > e.u0) || !(e.w1 > e.w0))
+			return t;
+		return t * std::sqrt((e.u1 - e.u0) / static_cast<float>(obs_.width) * (e.w1 - e.w0) /
+				     static_cast<float>(obs_.height));
 	}
 
 	// Tallies at t, moved first along its ray by the median depth residual.
@@ -408,6 +423,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	// box-centred ones (inside a one-sided clip, shifted on trusted axes);
 	// t gets the best one's.
 	const float shift = centring ? config.centreShiftShare : 0.0f;
+	const bool bySize = config.placeBySize && box.x && box.y;
 	const float shiftX[4] = {shift, -shift, 0, 0}, shiftY[4] = {0, 0, shift, -shift};
 	auto evaluate = [&](const RotatedView &r, int turn, Eigen::Vector3f &t, bool coarse, EvalScratch &s) {
 		const TurnedView tv = turnedView(&r.points, r.m, turn);
@@ -421,6 +437,19 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 				t = at;
 			}
 		};
+		if (bySize) {
+			// Filling the box, and as far again as a box drawn 10 % larger
+			// than the object puts it.
+			const Eigen::Vector3f filling = scorer.sized(scorer.extent(tv, r.t0), r.t0);
+			for (const float margin : {1.0f, 1.1f}) {
+				const Eigen::Vector3f at = filling * margin;
+				const auto extent = scorer.extent(tv, at);
+				consider(scorer.centred(extent, at));
+				for (int k = 0; k < 4 && shift > 0; ++k)
+					consider(scorer.centred(extent, at, 0.0f, shiftX[k], shiftY[k]));
+			}
+			return best;
+		}
 		if (!(coarse && centredOnly))
 			consider(r.t0);
 		if (!centring)

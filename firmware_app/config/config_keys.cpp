@@ -158,6 +158,9 @@ const KeyDesc kEstimateKeys[] = {
 	  "each inset this share of the box's size: a box drawn with a margin"),
 	E("view_search", "centre_shift_share", estimator.views.centreShiftShare, within(0, 0.5), X,
 	  "also the box-centred placement shifted by this share of the extent to either side (0: centred only)"),
+	E("view_search", "box_size_search", amodal.boxSizeSearch, kAny, X,
+	  "an amodal box not cut by the frame is searched once more with each rotation at the depth where it fills "
+	  "the box (never for modal boxes)"),
 	E("view_search", "coarse_points", estimator.views.coarsePoints, within(0, kMaxViewPoints), X,
 	  "a first pass scores every rotation on this many points per view (0: one pass on all)"),
 	E("view_search", "coarse_keep", estimator.views.coarseKeep, within(1, kMaxCoarseKeep), X,

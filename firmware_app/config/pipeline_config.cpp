@@ -61,6 +61,7 @@ void useBoxKind(EstimateSettings &settings, BoxKind kind)
 	settings.estimator.score.occludedWeight = w.occludedWeight;
 	settings.estimator.score.boxWeight = w.boxWeight;
 	settings.estimator.score.boxOccludedSide = w.boxOccludedSide;
+	settings.estimator.views.boxSizeSearch = w.boxSizeSearch;
 }
 
 void applyPapersMethod(EstimatorConfig &e)

@@ -49,11 +49,14 @@ Expected<BoxKind> parseBoxKind(const std::string &name, const std::string &what)
 const char *boxKindName(BoxKind kind);
 
 // The score weights that differ with the kind of box ([score] holds the
-// amodal ones, [modal_boxes.score] the modal ones).
+// amodal ones, [modal_boxes.score] the modal ones), and whether the view
+// search places rotations by the box's size (only a box round the whole
+// object tells its depth).
 struct BoxKindWeights {
 	float occludedWeight;
 	float boxWeight;
 	float boxOccludedSide;
+	bool boxSizeSearch;
 };
 
 // Offline (`ihf estimate`) defaults to no frame budget, so that accuracy is
@@ -64,11 +67,12 @@ struct EstimateSettings {
 	// The kind of the boxes the estimator is given ([boxes] kind), whose
 	// weights estimator.score holds (useBoxKind).
 	BoxKind boxKind = BoxKind::kAmodal;
-	BoxKindWeights amodal{ScoreConfig{}.occludedWeight, ScoreConfig{}.boxWeight, ScoreConfig{}.boxOccludedSide};
+	BoxKindWeights amodal{ScoreConfig{}.occludedWeight, ScoreConfig{}.boxWeight, ScoreConfig{}.boxOccludedSide,
+			      ViewSearchConfig{}.boxSizeSearch};
 	// Boxes round the visible part: a lighter occlusion weight, the box
 	// factor to the power 1 and the sides the scene hides open to overhang
 	// (the amodal weights lose with such boxes; BENCHMARKS.md).
-	BoxKindWeights modal{0.2f, 1.0f, 0.5f};
+	BoxKindWeights modal{0.2f, 1.0f, 0.5f, false};
 	// The library runs one thread unless asked; the tool uses every core.
 	EstimatorLimits limits = [] {
 		EstimatorLimits l;

@@ -479,6 +479,48 @@ TEST_F(ViewSearchTest, DepthAnchorFindsTheRotationWithoutAVotedCentre)
 		  0u);
 }
 
+// An amodal box round an object half hidden behind an occluder 150 mm in
+// front: the box's densest depth is the occluder's. Searched from there,
+// the rotations lie on the occluder; placed by the box's size they are
+// found where the object is.
+TEST_F(ViewSearchTest, PlacedByTheBoxSizeARotationIsFoundBehindAnOccluder)
+{
+	std::mt19937_64 rng(37);
+	ViewSearchConfig cfg;
+	const int trials = 6;
+	int fromOccluder = 0, bySize = 0;
+	for (int i = 0; i < trials; ++i) {
+		std::vector<float> depth;
+		const Pose truth = centredPose(rng, depth);
+		// The window of the box: the object's extent, 5 % wider on each
+		// side, centred on the principal point as the virtual crop's.
+		const Extent e = extent(depth);
+		const int halfW = (e.u1 - e.u0) * 21 / 40 + 1, halfH = (e.v1 - e.v0) * 21 / 40 + 1;
+		const int x0 = static_cast<int>(K_.cx) - halfW, y0 = static_cast<int>(K_.cy) - halfH;
+		const int w = 2 * halfW + 1, h = 2 * halfH + 1;
+		std::vector<float> window(static_cast<size_t>(w) * h);
+		const float occluderMm = static_cast<float>(truth.t.z() - 150);
+		for (int y = 0; y < h; ++y)
+			for (int x = 0; x < w; ++x)
+				window[static_cast<size_t>(y) * w + x] =
+					x < w / 2 ? occluderMm : depth[static_cast<size_t>(y + y0) * K_.width + x + x0];
+		CameraIntrinsics K = K_;
+		K.cx -= x0;
+		K.cy -= y0;
+		K.width = w;
+		K.height = h;
+		const ImageView<const float> view(window.data(), w, h, w);
+		fromOccluder += finds(cfg, view, K, Eigen::Vector3d::Zero(), truth, 20, {}, occluderMm);
+		ViewSearchConfig sized = cfg;
+		sized.placeBySize = true;
+		bySize += finds(sized, view, K, Eigen::Vector3d::Zero(), truth, 20, {}, occluderMm);
+	}
+	RecordProperty("from_occluder", fromOccluder);
+	RecordProperty("by_size", bySize);
+	EXPECT_LE(fromOccluder, trials / 3);
+	EXPECT_GE(bySize, trials * 2 / 3);
+}
+
 // On a depth centre in a box trusted on both axes the coarse pass scores
 // each rotation box-centred only (coarseAtCentre false, the default), which
 // only changes what reaches the fine pass: keeping every rotation, the

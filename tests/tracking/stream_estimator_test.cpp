@@ -23,6 +23,9 @@ namespace ihf {
 namespace {
 
 constexpr int64_t kMs = 1000000;
+// A frame with room for one detection and a tracked box, not for two
+// detections: a detection of these boxes reads the step clock 33 times.
+constexpr float kOneDetectionMs = 40.0f;
 
 double degrees(const Pose &a, const Pose &b)
 {
@@ -246,7 +249,7 @@ TEST_F(StreamEstimatorTest, TrackedBoxesRunFirstAndDetectionsThatDoNotFitWait)
 	const Scene scene = render({a, b, c});
 	const std::vector<StreamBox> all = boxesOf(scene);
 	// Frame 0, 30 ms: room for one detection of the three.
-	std::vector<StreamResult> r = run(stream, 0, scene, all, 30);
+	std::vector<StreamResult> r = run(stream, 0, scene, all, kOneDetectionMs);
 	ASSERT_EQ(std::count_if(r.begin(), r.end(), [](const StreamResult &x) { return x.mode == BoxMode::kDetect; }),
 		  1);
 	ASSERT_EQ(std::count_if(r.begin(), r.end(), [](const StreamResult &x) { return x.mode == BoxMode::kDeferred; }),
@@ -261,7 +264,7 @@ TEST_F(StreamEstimatorTest, TrackedBoxesRunFirstAndDetectionsThatDoNotFitWait)
 	// Frame 1: the tracked box runs first although it is listed last; of
 	// the waiting two, one more fits.
 	std::vector<StreamBox> reordered{all[1], all[2], all[0]};
-	r = run(stream, 1, scene, reordered, 30);
+	r = run(stream, 1, scene, reordered, kOneDetectionMs);
 	EXPECT_EQ(r[2].mode, BoxMode::kTrack);
 	for (int i = 0; i < 2; ++i)
 		if (r[i].mode == BoxMode::kDetect) {
@@ -356,12 +359,12 @@ TEST_F(StreamEstimatorTest, ANewBoxWaitsBehindOneThatWaitedLonger)
 	const Pose a = test::viewAt(*model_, 37, {-150, -40, 800}), b = test::viewAt(*model_, 12, {0, 60, 800}),
 		   c = test::viewAt(*model_, 25, {150, -40, 800});
 	const Scene two = render({a, b});
-	std::vector<StreamResult> r = run(stream, 0, two, boxesOf(two), 30);
+	std::vector<StreamResult> r = run(stream, 0, two, boxesOf(two), kOneDetectionMs);
 	ASSERT_EQ(r[1].mode, BoxMode::kDeferred);
 	// A new object appears, listed first: the waiting box goes before it.
 	const Scene three = render({a, b, c});
 	std::vector<StreamBox> boxes = boxesOf(three);
-	r = run(stream, 1, three, {boxes[2], boxes[0], boxes[1]}, 30);
+	r = run(stream, 1, three, {boxes[2], boxes[0], boxes[1]}, kOneDetectionMs);
 	EXPECT_EQ(r[0].mode, BoxMode::kDeferred);
 	EXPECT_EQ(r[1].mode, BoxMode::kTrack);
 	EXPECT_EQ(r[2].mode, BoxMode::kDetect);

@@ -264,7 +264,8 @@ TEST(EstimateConfig, OutOfRangeValuesNameTheFileAndKey)
 
 // The kind of the given boxes selects the score's occlusion and box weights:
 // [score]'s for amodal boxes (the default), [modal_boxes]' for modal ones,
-// and switching back restores them.
+// and switching back restores them. Only a box round the whole object has
+// the view search place rotations by its size.
 TEST(EstimateConfig, TheBoxKindSelectsTheScoreWeights)
 {
 	auto bundled = loadEstimateConfig(test::sourceDir() / "config" / "estimate.toml");
@@ -274,6 +275,7 @@ TEST(EstimateConfig, TheBoxKindSelectsTheScoreWeights)
 	EXPECT_EQ(bundled->estimator.score.occludedWeight, library.occludedWeight);
 	EXPECT_EQ(bundled->estimator.score.boxWeight, library.boxWeight);
 	EXPECT_EQ(bundled->estimator.score.boxOccludedSide, library.boxOccludedSide);
+	EXPECT_TRUE(bundled->estimator.views.boxSizeSearch);
 	auto none = loadEstimateConfig({});
 	ASSERT_TRUE(none.ok());
 	EXPECT_EQ(none->modal.occludedWeight, bundled->modal.occludedWeight);
@@ -287,7 +289,9 @@ TEST(EstimateConfig, TheBoxKindSelectsTheScoreWeights)
 	EXPECT_EQ(s.estimator.score.boxWeight, 1.0f);
 	EXPECT_EQ(s.estimator.score.boxOccludedSide, 0.5f);
 	EXPECT_EQ(s.estimator.score.inlierMm, bundled->estimator.score.inlierMm); // the rest as it was
+	EXPECT_FALSE(s.estimator.views.boxSizeSearch);
 	useBoxKind(s, BoxKind::kAmodal);
+	EXPECT_TRUE(s.estimator.views.boxSizeSearch);
 	EXPECT_EQ(s.estimator.score.occludedWeight, library.occludedWeight);
 	EXPECT_EQ(s.estimator.score.boxWeight, library.boxWeight);
 	EXPECT_EQ(s.estimator.score.boxOccludedSide, library.boxOccludedSide);
