@@ -48,7 +48,7 @@ def rot_deg(a, b):
     return math.degrees(math.acos(max(-1.0, min(1.0, (tr - 1) / 2))))
 
 
-HYP = ('mode', 'icp', 'view', 'view_depth', 'half_turn')
+HYP = ('mode', 'icp', 'view', 'view_depth', 'view_box', 'half_turn')
 cases = []  # (truth, wrong hypotheses, category)
 counts = {}
 reach = {}  # stage -> boxes where that stage had a hypothesis near the truth
