@@ -9,7 +9,6 @@
 #include <gtest/gtest.h>
 
 #include "core/estimation/part_evidence.h"
-#include "core/estimation/symmetry_turn_config.h"
 
 namespace ihf {
 namespace {
@@ -119,22 +118,6 @@ TEST(PartEvidence, AHiddenPartLeavesNothingToCompare)
 	const PartEvidence e = s.compare();
 	EXPECT_EQ(e.differing, 0);
 	EXPECT_EQ(e.informative, 0);
-}
-
-TEST(PartEvidence, ATwoToOneLeadReplacesTheBestButDoesNotMakeItCertain)
-{
-	const SymmetryTurnConfig c;
-	// A bottle upside down against its upright turn, the nozzle seen:
-	// 609 pixels for the turn, 277 for the best.
-	EXPECT_TRUE(preferredBy(609, 277, 609 + 277, c));
-	EXPECT_FALSE(decisivelyBy(609, 277, 609 + 277, c));
-	// Three to one is both.
-	EXPECT_TRUE(decisivelyBy(300, 100, 400, c));
-	EXPECT_TRUE(preferredBy(300, 100, 400, c));
-	// Fewer than minPixels ahead is neither, however lopsided.
-	EXPECT_FALSE(preferredBy(c.minPixels - 1, 0, c.minPixels - 1, c));
-	// Even is neither.
-	EXPECT_FALSE(preferredBy(200, 200, 400, c));
 }
 
 } // namespace
