@@ -437,6 +437,13 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 				t = at;
 			}
 		};
+		// The box-centred placement at `at` shifted to either side on the
+		// axes the box is trusted on.
+		auto considerShifted = [&](const SparseScorer::Extent &extent, const Eigen::Vector3f &at) {
+			for (int k = 0; k < 4 && shift > 0; ++k)
+				if (k < 2 ? box.x : box.y)
+					consider(scorer.centred(extent, at, 0.0f, shiftX[k], shiftY[k]));
+		};
 		if (bySize) {
 			// Filling the box, and as far again as a box drawn 10 % larger
 			// than the object puts it.
@@ -445,8 +452,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 				const Eigen::Vector3f at = filling * margin;
 				const auto extent = scorer.extent(tv, at);
 				consider(scorer.centred(extent, at));
-				for (int k = 0; k < 4 && shift > 0; ++k)
-					consider(scorer.centred(extent, at, 0.0f, shiftX[k], shiftY[k]));
+				considerShifted(extent, at);
 			}
 			return best;
 		}
@@ -457,9 +463,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		const auto extent = scorer.extent(tv, r.t0);
 		for (int k = 0; k <= insets; ++k)
 			consider(scorer.centred(extent, r.t0, static_cast<float>(k) * config.edgeInsetShare));
-		for (int k = 0; k < 4 && shift > 0; ++k)
-			if (k < 2 ? box.x : box.y)
-				consider(scorer.centred(extent, r.t0, 0.0f, shiftX[k], shiftY[k]));
+		considerShifted(extent, r.t0);
 		return best;
 	};
 	auto rotateView = [&](RotatedView &r, int v, int stride, EvalScratch &s) {

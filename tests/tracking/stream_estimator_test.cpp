@@ -248,7 +248,7 @@ TEST_F(StreamEstimatorTest, TrackedBoxesRunFirstAndDetectionsThatDoNotFitWait)
 		   c = test::viewAt(*model_, 25, {150, -40, 800});
 	const Scene scene = render({a, b, c});
 	const std::vector<StreamBox> all = boxesOf(scene);
-	// Frame 0, 30 ms: room for one detection of the three.
+	// Frame 0: room for one detection of the three.
 	std::vector<StreamResult> r = run(stream, 0, scene, all, kOneDetectionMs);
 	ASSERT_EQ(std::count_if(r.begin(), r.end(), [](const StreamResult &x) { return x.mode == BoxMode::kDetect; }),
 		  1);
