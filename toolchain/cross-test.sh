@@ -105,6 +105,7 @@ targets=(ihf ihf_drivers "${unit_targets[@]}")
 echo "cross-test: building ${targets[*]}" >&2
 cmake --build "$build" -j "${IHF_JOBS:-2}" --target "${targets[@]}"
 
-# Timing-sensitive tests (label "timing") are skipped under emulation.
+# Skipped under emulation: timing-sensitive tests (label "timing") and long
+# statistical ones (label "long"), whose code test_golden_pose runs there.
 cd "$build"
-ctest -L unit -LE timing --output-on-failure -j "${IHF_JOBS:-2}" --timeout 1200 "$@"
+ctest -L unit -LE 'timing|long' --output-on-failure -j "${IHF_JOBS:-2}" --timeout 1200 "$@"

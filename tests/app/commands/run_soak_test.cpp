@@ -156,7 +156,7 @@ TEST(RunSoak, LoopedRunCountsBadInputsKeepsThePosesAndItsMemoryFlat)
 					 << "[run]\nstats_interval_s = 0\n";
 
 	SoakFaults faults;
-	faults.passes = 20;
+	faults.passes = 10;
 	faults.corruptEvery = 5;
 	faults.truncateEvery = 7;
 	faults.unknownEvery = 3;
