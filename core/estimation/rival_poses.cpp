@@ -3,30 +3,16 @@
 
 #include <algorithm>
 
+#include "core/estimation/pose_distance.h"
+
 namespace ihf {
 
 namespace {
 
-// At most RivalPoses::kMaxPoints of vertices, evenly strided, into points
-// (room for kMaxPoints); returns how many.
-int samplePoints(std::span<const Eigen::Vector3f> vertices, Eigen::Vector3d *points)
-{
-	int n = 0;
-	const size_t stride = (vertices.size() + RivalPoses::kMaxPoints - 1) / RivalPoses::kMaxPoints;
-	for (size_t i = 0; i < vertices.size() && n < RivalPoses::kMaxPoints; i += stride)
-		points[n++] = vertices[i].cast<double>();
-	return n;
-}
-
 // Whether the points placed by a and by b lie more than distinctMm apart on average.
 bool apart(const Pose &a, const Pose &b, const Eigen::Vector3d *points, int n, double distinctMm)
 {
-	const Eigen::Matrix3d dR = a.R - b.R;
-	const Eigen::Vector3d dt = a.t - b.t;
-	double sum = 0;
-	for (int i = 0; i < n; ++i)
-		sum += (dR * points[i] + dt).norm();
-	return sum > distinctMm * n;
+	return meanPointDistance(a, b, std::span<const Eigen::Vector3d>(points, static_cast<size_t>(n))) > distinctMm;
 }
 
 } // namespace
@@ -60,7 +46,7 @@ float RivalPoses::bestDistinct(const Pose &winner, std::span<const Eigen::Vector
 	if (symmetric || vertices.empty())
 		points[n++] = centre;
 	else
-		n = samplePoints(vertices, points);
+		n = sampleModelPoints(vertices, points);
 	float best = 0;
 	for (size_t r = 0; r < count_; ++r) {
 		const RivalPose &rival = storage_[r];
@@ -74,7 +60,7 @@ size_t RivalPoses::bestDistinctPoses(const Pose &winner, std::span<const Eigen::
 				     double distinctMm, std::span<RivalPose> out) const
 {
 	Eigen::Vector3d points[kMaxPoints];
-	const int n = samplePoints(vertices, points);
+	const int n = sampleModelPoints(vertices, points);
 	if (n == 0)
 		return 0;
 	// Bounds on the mean distance that settle most pairs without the

@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 
+#include "core/estimation/pose_distance.h"
 #include "core/geometry/pose.h"
 
 namespace ihf {
@@ -42,7 +43,7 @@ class RivalPoses
 {
 public:
 	// Model points sampled for the distance between two poses.
-	static constexpr int kMaxPoints = 64;
+	static constexpr int kMaxPoints = kPoseDistancePoints;
 
 	RivalPoses() = default;
 	explicit RivalPoses(std::span<RivalPose> storage) : storage_(storage) {}

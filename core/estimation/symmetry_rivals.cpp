@@ -2,31 +2,26 @@
 #include "core/estimation/symmetry_rivals.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
 #include <Eigen/Geometry>
 
+#include "core/estimation/pose_distance.h"
 #include "core/pose/half_turns.h"
 
 namespace ihf {
 
 namespace {
 
-// Mean over at most 64 model points, evenly strided, of distance(x).
-template <class Distance>
-double meanOverModelPoints(std::span<const Eigen::Vector3f> vertices, Distance distance)
+// Mean distance (mm) between the model points placed by a and by b
+// (pose_distance.h).
+double meanPoseDistance(std::span<const Eigen::Vector3f> vertices, const Pose &a, const Pose &b)
 {
-	if (vertices.empty())
-		return 0;
-	const size_t stride = std::max<size_t>(1, vertices.size() / 64);
-	double sum = 0;
-	int n = 0;
-	for (size_t i = 0; i < vertices.size(); i += stride) {
-		sum += distance(vertices[i].cast<double>());
-		++n;
-	}
-	return sum / n;
+	std::array<Eigen::Vector3d, kPoseDistancePoints> points;
+	const int n = sampleModelPoints(vertices, points);
+	return meanPointDistance(a, b, std::span<const Eigen::Vector3d>(points.data(), static_cast<size_t>(n)));
 }
 
 // Mean distance (mm) the model points move under a turn about (axis, point):
@@ -34,17 +29,10 @@ double meanOverModelPoints(std::span<const Eigen::Vector3f> vertices, Distance d
 double meanTurnDistance(std::span<const Eigen::Vector3f> vertices, const Eigen::Matrix3d &turn,
 			const Eigen::Vector3d &point)
 {
-	return meanOverModelPoints(vertices, [&](const Eigen::Vector3d &x) {
-		return (turn * (x - point) + point - x).norm();
-	});
-}
-
-// Mean distance (mm) between the model points placed by a and by b.
-double meanPoseDistance(std::span<const Eigen::Vector3f> vertices, const Pose &a, const Pose &b)
-{
-	return meanOverModelPoints(vertices, [&](const Eigen::Vector3d &x) {
-		return ((a.R * x + a.t) - (b.R * x + b.t)).norm();
-	});
+	Pose turned;
+	turned.R = turn;
+	turned.t = point - turn * point;
+	return meanPoseDistance(vertices, Pose{}, turned);
 }
 
 } // namespace

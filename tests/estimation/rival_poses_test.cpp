@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The reported poses of a box (rival_poses.h): the confidence's margin, the
 // winner's score over the best rival that is a different pose, and the
-// best distinct poses the nearly symmetric objects' comparison takes.
+// best distinct poses the nearly symmetric objects' comparison takes, and
+// the distance between two poses that tells them apart.
+#include <array>
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -32,6 +35,31 @@ std::vector<Eigen::Vector3f> lShape()
 	for (int i = 1; i <= 40; ++i)
 		v.emplace_back(0.0f, static_cast<float>(i) * 50.0f / 40.0f, 0.0f);
 	return v;
+}
+
+// The distance between two poses (pose_distance.h): at most 64 of the
+// vertices, evenly strided, stand for the model; a shift moves each of them
+// by its length, a half turn about the L's corner by twice their distance
+// from it.
+TEST(PoseDistance, TheMeanDistanceOfTheSampledModelPoints)
+{
+	const std::vector<Eigen::Vector3f> l = lShape();
+	std::array<Eigen::Vector3d, kPoseDistancePoints> points;
+	const int n = sampleModelPoints(l, points);
+	EXPECT_EQ(n, 50); // 100 vertices, every second one
+	EXPECT_EQ(points[1], l[2].cast<double>());
+	const std::span<const Eigen::Vector3d> sampled(points.data(), static_cast<size_t>(n));
+	const Pose at = turnedAboutZ(0, {10, 20, 800});
+	EXPECT_NEAR(meanPointDistance(at, turnedAboutZ(0, {13, 24, 800}), sampled), 5.0, 1e-9);
+	double fromCorner = 0;
+	for (const Eigen::Vector3d &p : sampled)
+		fromCorner += p.norm();
+	EXPECT_NEAR(meanPointDistance(at, turnedAboutZ(180, {10, 20, 800}), sampled), 2.0 * fromCorner / n, 1e-9);
+	EXPECT_EQ(meanPointDistance(at, turnedAboutZ(90, {0, 0, 0}), {}), 0.0);
+
+	std::vector<Eigen::Vector3f> few(l.begin(), l.begin() + 10);
+	EXPECT_EQ(sampleModelPoints(few, points), 10);
+	EXPECT_EQ(sampleModelPoints({}, points), 0);
 }
 
 TEST(PoseConfidence, TheScoreScaledByTheMarginUpToTheFullMargin)
