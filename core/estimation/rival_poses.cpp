@@ -7,16 +7,6 @@
 
 namespace ihf {
 
-namespace {
-
-// Whether the points placed by a and by b lie more than distinctMm apart on average.
-bool apart(const Pose &a, const Pose &b, const Eigen::Vector3d *points, int n, double distinctMm)
-{
-	return meanPointDistance(a, b, std::span<const Eigen::Vector3d>(points, static_cast<size_t>(n))) > distinctMm;
-}
-
-} // namespace
-
 float poseConfidence(float score, float margin, const ConfidenceConfig &config)
 {
 	if (config.fullMargin <= 0)
@@ -41,16 +31,17 @@ void RivalPoses::add(const Pose &pose, float score)
 float RivalPoses::bestDistinct(const Pose &winner, std::span<const Eigen::Vector3f> vertices,
 			       const Eigen::Vector3d &centre, bool symmetric, double distinctMm) const
 {
-	Eigen::Vector3d points[kMaxPoints];
+	Eigen::Vector3d points[kPoseDistancePoints];
 	int n = 0;
 	if (symmetric || vertices.empty())
 		points[n++] = centre;
 	else
 		n = sampleModelPoints(vertices, points);
+	const std::span<const Eigen::Vector3d> sampled(points, static_cast<size_t>(n));
 	float best = 0;
 	for (size_t r = 0; r < count_; ++r) {
 		const RivalPose &rival = storage_[r];
-		if (rival.score > best && apart(rival.pose, winner, points, n, distinctMm))
+		if (rival.score > best && meanPointDistance(rival.pose, winner, sampled) > distinctMm)
 			best = rival.score;
 	}
 	return best;
@@ -59,10 +50,11 @@ float RivalPoses::bestDistinct(const Pose &winner, std::span<const Eigen::Vector
 size_t RivalPoses::bestDistinctPoses(const Pose &winner, std::span<const Eigen::Vector3f> vertices,
 				     double distinctMm, std::span<RivalPose> out) const
 {
-	Eigen::Vector3d points[kMaxPoints];
+	Eigen::Vector3d points[kPoseDistancePoints];
 	const int n = sampleModelPoints(vertices, points);
 	if (n == 0)
 		return 0;
+	const std::span<const Eigen::Vector3d> sampled(points, static_cast<size_t>(n));
 	// Bounds on the mean distance that settle most pairs without the
 	// points: it is at least the distance of the points' mean and at most
 	// |dt| + |dR| times the points' mean norm. The winner's many near copies
@@ -82,7 +74,7 @@ size_t RivalPoses::bestDistinctPoses(const Pose &winner, std::span<const Eigen::
 			return true;
 		if (dt.norm() + dR.norm() * meanNorm < distinctMm * (1 - 1e-9))
 			return false;
-		return apart(a, b, points, n, distinctMm);
+		return meanPointDistance(a, b, sampled) > distinctMm;
 	};
 	// Each time the best-scoring stored pose apart from the winner and from
 	// those taken (a taken one is not apart from itself).

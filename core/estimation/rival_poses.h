@@ -42,9 +42,6 @@ struct RivalPose {
 class RivalPoses
 {
 public:
-	// Model points sampled for the distance between two poses.
-	static constexpr int kMaxPoints = kPoseDistancePoints;
-
 	RivalPoses() = default;
 	explicit RivalPoses(std::span<RivalPose> storage) : storage_(storage) {}
 
@@ -57,7 +54,7 @@ public:
 	// The best score of a stored pose whose sample points lie on average
 	// more than distinctMm from winner's (or whose `centre` does, when
 	// symmetric); 0 when there is none. vertices: the model's, sampled
-	// evenly up to kMaxPoints.
+	// evenly up to kPoseDistancePoints (pose_distance.h).
 	float bestDistinct(const Pose &winner, std::span<const Eigen::Vector3f> vertices, const Eigen::Vector3d &centre,
 			   bool symmetric, double distinctMm) const;
 

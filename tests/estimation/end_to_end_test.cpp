@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "core/eval/pose_error.h"
+#include "core/estimation/pose_distance.h"
 #include "core/estimation/pose_estimator.h"
 #include "core/forest/forest_trainer.h"
 #include "core/geometry/ply_loader.h"
@@ -350,7 +351,7 @@ TEST_F(EndToEnd, TheMarginIsTheGapToTheBestDistinctHypothesis)
 	ASSERT_TRUE(e.found) << e.reason;
 
 	const std::vector<Eigen::Vector3f> &v = model_->mesh().vertices;
-	const size_t stride = (v.size() + RivalPoses::kMaxPoints - 1) / RivalPoses::kMaxPoints;
+	const size_t stride = (v.size() + kPoseDistancePoints - 1) / kPoseDistancePoints;
 	const double distinctMm = cfg.confidence.distinctShare * trained_->params.diameter;
 	float rival = 0;
 	for (const HypothesisEvent &ev : events.all) {
