@@ -113,7 +113,7 @@ bool BudgetPlanner::researchFits(double margin, int polishRounds)
 bool BudgetPlanner::polishFits(double margin)
 {
 	// A refused polish round does not count the box as cut short.
-	if (budget_.fits(timer_.now(), polishCost(margin)))
+	if (budget_.fits(timer_.now(), polishCost(margin) + keptCost(margin)))
 		return true;
 	++counters_.icpSkipped;
 	return false;
@@ -129,7 +129,7 @@ bool BudgetPlanner::optionalStageFits(Stage stage, double margin)
 
 bool BudgetPlanner::stageFits(Stage stage, double margin, bool scalesWithBox)
 {
-	return fits(costs_.bound(stage, margin, scalesWithBox ? boxWork_ : 1.0));
+	return fits(costs_.bound(stage, margin, scalesWithBox ? boxWork_ : 1.0) + (stage == kept_ ? 0 : keptCost(margin)));
 }
 
 // Whether predictedNs more still fits the frame and the box; a box is

@@ -88,15 +88,20 @@ public:
 	// with room for the planned searches and polish rounds after it, and
 	// for the stages kept last.
 	bool passFits(double margin);
+	// The stages kept last begin: nothing is kept for them any more (their
+	// own polish rounds ask polishFits()).
+	void beginKept() { keptLast_ = 0; }
 	// A view search, with polishRounds ICP rounds after it and room for the
 	// stages kept last.
 	bool searchFits(double margin, int polishRounds);
 	// A re-search round, with its polish rounds and room for the stages
 	// kept last; refusals counted apart.
 	bool researchFits(double margin, int polishRounds);
-	// A polish round (ICP and its score); refusals counted apart.
+	// A polish round (ICP and its score), with room for the stages kept
+	// last; refusals counted apart.
 	bool polishFits(double margin);
-	// One run of `stage` (the half-turns).
+	// One run of `stage` (the half-turns), with room for the stages kept
+	// last unless it is one of them.
 	bool stageFits(Stage stage, double margin, bool scalesWithBox);
 	// An optional run of `stage` (scaled with the box) and a polish round
 	// after it, with room for the stages kept last; a refusal does not

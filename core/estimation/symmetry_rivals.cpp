@@ -280,6 +280,7 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 	Hypothesis current = best;
 	if (cfg.closeRivals > 0 && box.planner.optionalStageFits(Stage::kCloseRivals, box.config.budgetMargin))
 		current = preferredCloseRival(box, best, rivals);
+	box.planner.beginKept();
 	for (int round = 0; round < std::max(cfg.rounds, 1); ++round) {
 		if (!box.planner.stageFits(Stage::kSymmetryTurns, box.config.budgetMargin, true))
 			break;

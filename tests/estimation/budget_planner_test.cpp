@@ -4,7 +4,8 @@
 // its cost bound is left in the box's share; a vote pass is refused when it
 // would leave no room for the planned searches and polish rounds, and a
 // pass or a search none for the stage kept last; an optional stage fits
-// with a polish and the stage kept last after it; polish
+// with a polish and the stage kept last after it; a polish round and
+// another stage keep that room too, until the kept stage begins; polish
 // and re-search refusals are counted apart from the boxes cut short; a lean
 // box's search is measured apart from the budget's own; forgetting the
 // counts keeps the cost models.
@@ -146,6 +147,31 @@ TEST(BudgetPlanner, AnOptionalStageFitsWithAPolishAndTheStageKeptLast)
 	EXPECT_FALSE(p.boxCut());
 	EXPECT_EQ(p.counters().budgetStops, 0u);
 	EXPECT_TRUE(p.stageFits(Stage::kSymmetryTurns, 0, false));
+}
+
+TEST(BudgetPlanner, PolishAndOtherStagesKeepRoomForTheStageKeptLastUntilItBegins)
+{
+	ManualClock clock;
+	BudgetPlanner p(&clock);
+	measureABox(p, clock, {{Stage::kHalfTurns, 2}, {Stage::kIcp, 2}, {Stage::kSymmetryTurns, 3}});
+
+	// 10 ms, 6 left: a polish round (2) or the half-turns (2) fit alone
+	// and with the comparison (3) after them; 4 left: they fit alone but
+	// not with it, while the comparison itself does.
+	p.beginFrame(1, 10.0f);
+	p.beginBox();
+	p.plan(0, 0, Stage::kSymmetryTurns, 1);
+	clock.t += 4 * kMs;
+	EXPECT_TRUE(p.polishFits(0));
+	EXPECT_TRUE(p.stageFits(Stage::kHalfTurns, 0, false));
+	clock.t += 2 * kMs;
+	EXPECT_FALSE(p.polishFits(0));
+	EXPECT_EQ(p.counters().icpSkipped, 1u);
+	EXPECT_FALSE(p.stageFits(Stage::kHalfTurns, 0, false));
+	EXPECT_TRUE(p.stageFits(Stage::kSymmetryTurns, 0, false));
+	// Once the comparison begins, its own polish rounds need only their time.
+	p.beginKept();
+	EXPECT_TRUE(p.polishFits(0));
 }
 
 TEST(BudgetPlanner, PolishAndResearchRefusalsAreCountedApart)
