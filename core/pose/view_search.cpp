@@ -323,6 +323,11 @@ struct EvalScratch {
 };
 
 constexpr int kCoarseViewsPerTask = 8;
+// The placements a rotation is tried at: its translation, the box-centred
+// one and the edge insets (placed), and the box-centred one moved to either
+// side (shifted).
+constexpr int kPlaced = 1, kShifted = 2;
+
 constexpr int kFinePerTask = 32;
 
 // View v's points without the repeats of its last one that pad a view with
@@ -425,8 +430,11 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	const float shift = centring ? config.centreShiftShare : 0.0f;
 	const bool bySize = config.placeBySize && box.x && box.y;
 	const float shiftX[4] = {shift, -shift, 0, 0}, shiftY[4] = {0, 0, shift, -shift};
-	auto evaluate = [&](const RotatedView &r, int turn, Eigen::Vector3f &t, bool coarse, EvalScratch &s) {
+	// `placements`: kPlaced, kShifted or both.
+	auto evaluate = [&](const RotatedView &r, int turn, Eigen::Vector3f &t, bool coarse, EvalScratch &s,
+			    int placements = kPlaced | kShifted) {
 		const TurnedView tv = turnedView(&r.points, r.m, turn);
+		const bool placed = placements & kPlaced, shifted = placements & kShifted;
 		float best = -1.0f;
 		auto consider = [&](Eigen::Vector3f at) {
 			const Tally k = coarse ? scorer.alignedOnce(tv, at, s.res.data(), s.all.data())
@@ -440,7 +448,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		// The box-centred placement at `at` shifted to either side on the
 		// axes the box is trusted on.
 		auto considerShifted = [&](const SparseScorer::Extent &extent, const Eigen::Vector3f &at) {
-			for (int k = 0; k < 4 && shift > 0; ++k)
+			for (int k = 0; k < 4 && shift > 0 && shifted; ++k)
 				if (k < 2 ? box.x : box.y)
 					consider(scorer.centred(extent, at, 0.0f, shiftX[k], shiftY[k]));
 		};
@@ -451,21 +459,25 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 			for (const float margin : {1.0f, 1.1f}) {
 				const Eigen::Vector3f at = filling * margin;
 				const auto extent = scorer.extent(tv, at);
-				consider(scorer.centred(extent, at));
+				if (placed)
+					consider(scorer.centred(extent, at));
 				considerShifted(extent, at);
 			}
 			return best;
 		}
-		if (!(coarse && centredOnly))
+		if (placed && !(coarse && centredOnly))
 			consider(r.t0);
 		if (!centring)
 			return best;
 		const auto extent = scorer.extent(tv, r.t0);
-		for (int k = 0; k <= insets; ++k)
+		for (int k = 0; k <= insets && placed; ++k)
 			consider(scorer.centred(extent, r.t0, static_cast<float>(k) * config.edgeInsetShare));
 		considerShifted(extent, r.t0);
 		return best;
 	};
+	// Whether any placement is a shifted one (the coarse pass then tries
+	// them on its best rotations only).
+	const bool shifting = config.coarseShifted > 0 && centring && shift > 0 && (box.x || box.y);
 	auto rotateView = [&](RotatedView &r, int v, int stride, EvalScratch &s) {
 		const Eigen::Matrix3f r0 = viewRotation(templates, 1, v, 0).cast<float>();
 		const std::span<const Eigen::Vector3f> pts = templates.view(v);
@@ -630,7 +642,11 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		return betterCandidate(a, b, inplane);
 	};
 
-	// Coarse pass: each thread keeps a min-heap of its best `keep`.
+	// Coarse pass: each thread keeps a min-heap of its best `wanted`
+	// rotations; with coarseShifted only at their placed placements, and
+	// only the best `wanted` of those try the shifted ones.
+	const int wanted = shifting ? std::clamp(keep * config.coarseShifted, keep, kMaxCoarseKeep) : keep;
+	const int firstPlacements = shifting ? kPlaced : kPlaced | kShifted;
 	std::array<size_t, WorkerPool::kMaxThreads> held{};
 	const int coarseTasks = (templates.viewpoints + kCoarseViewsPerTask - 1) / kCoarseViewsPerTask;
 	runTasks(coarseTasks, [&](int task, int thread) {
@@ -643,10 +659,10 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 			rotateView(r, v, stride, s);
 			for (int turn = 0; turn < inplane; ++turn) {
 				Eigen::Vector3f t;
-				const ViewCoarseCandidate c{evaluate(r, turn, t, true, s), v, turn};
+				const ViewCoarseCandidate c{evaluate(r, turn, t, true, s, firstPlacements), v, turn};
 				if (c.score <= 0)
 					continue;
-				if (h < static_cast<size_t>(keep)) {
+				if (h < static_cast<size_t>(wanted)) {
 					heap[h++] = c;
 					std::push_heap(heap, heap + h, better);
 				} else if (better(c, heap[0])) {
@@ -657,21 +673,43 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 			}
 		}
 	});
-	// The threads' heaps side by side; their best `keep` are the best of all.
+	// The threads' heaps side by side; their best `wanted` are the best of all.
 	size_t held0 = held[0];
 	for (int th = 1; th < threads; ++th)
 		for (size_t i = 0; i < held[static_cast<size_t>(th)]; ++i)
 			heaps[held0++] = heaps[static_cast<size_t>(th) * kMaxCoarseKeep + i];
 	ViewCoarseCandidate *cand = heaps.data();
+	if (held0 > static_cast<size_t>(wanted)) {
+		std::nth_element(cand, cand + wanted, cand + held0, better);
+		held0 = static_cast<size_t>(wanted);
+	}
+	auto byRotation = [](const ViewCoarseCandidate &a, const ViewCoarseCandidate &b) {
+		return a.view != b.view ? a.view < b.view : a.turn < b.turn;
+	};
+	if (shifting) {
+		// Their shifted placements, in view order so each view is
+		// rotated once per task; a rotation keeps its better score.
+		std::sort(cand, cand + held0, byRotation);
+		const int shiftTasks = static_cast<int>((held0 + kFinePerTask - 1) / kFinePerTask);
+		runTasks(shiftTasks, [&](int task, int) {
+			RotatedView r;
+			EvalScratch s;
+			const size_t i1 = std::min(held0, static_cast<size_t>(task + 1) * kFinePerTask);
+			for (size_t i = static_cast<size_t>(task) * kFinePerTask; i < i1; ++i) {
+				if (cand[i].view != r.view)
+					rotateView(r, cand[i].view, stride, s);
+				Eigen::Vector3f t;
+				cand[i].score = std::max(cand[i].score, evaluate(r, cand[i].turn, t, true, s, kShifted));
+			}
+		});
+	}
 	if (held0 > static_cast<size_t>(keep)) {
 		std::nth_element(cand, cand + keep, cand + held0, better);
 		held0 = static_cast<size_t>(keep);
 	}
 	// Fine pass on all points, in view order so each view is rotated once
 	// per task; results by candidate, proposed in that order.
-	std::sort(cand, cand + held0, [](const ViewCoarseCandidate &a, const ViewCoarseCandidate &b) {
-		return a.view != b.view ? a.view < b.view : a.turn < b.turn;
-	});
+	std::sort(cand, cand + held0, byRotation);
 	const int fineTasks = static_cast<int>((held0 + kFinePerTask - 1) / kFinePerTask);
 	runTasks(fineTasks, [&](int task, int) {
 		RotatedView r;

@@ -96,6 +96,11 @@ struct ViewSearchConfig {
 	// scored on all of them. 0: one pass on all points.
 	int coarsePoints = 32;
 	int coarseKeep = 1024; // at most kMaxCoarseKeep
+	// The shifted placements (centreShiftShare) are four tallies more a
+	// rotation: with coarseShifted > 0 the coarse pass tries them only on
+	// the coarseShifted x coarseKeep rotations that rank best at their
+	// other placements (at most kMaxCoarseKeep). 0: on every rotation.
+	int coarseShifted = 0;
 	// Centres not from the votes: the densest depth slabs of the box (the
 	// initial registration's depth windows), each searched on the box's
 	// ray with every rotation's visible points put at the slab's median
@@ -131,6 +136,9 @@ struct ViewSearchConfig {
 	// coarse points with the turns score higher than 16 without them.
 	int budgetCoarsePoints = 32;
 	int budgetCoarseKeep = 256;
+	// and the shifted placements on the best few (a third less search
+	// time: more searches fit a 33 ms frame; BENCHMARKS.md).
+	int budgetCoarseShifted = 4;
 	// and at most this many depth centres (a third search fits beside the
 	// ICP polish because the search is fast; with a search twice as slow it
 	// left the polish no time; BENCHMARKS.md).
@@ -169,6 +177,7 @@ inline ViewSearchConfig underBudget(ViewSearchConfig c)
 	c.refineTop = std::min(c.refineTop, c.budgetRefineTop);
 	c.coarsePoints = c.budgetCoarsePoints;
 	c.coarseKeep = c.budgetCoarseKeep;
+	c.coarseShifted = c.budgetCoarseShifted;
 	c.depthCentres = std::min(c.depthCentres, c.budgetDepthCentres);
 	c.depthCentreWidth = c.budgetDepthCentreWidth;
 	c.depthFirst = c.budgetDepthFirst;

@@ -266,6 +266,9 @@ const KeyDesc kEstimateKeys[] = {
 	  "instead of [view_search]'s: a search that fits a 33 ms frame"),
 	E("budget.view_search", "coarse_keep", estimator.views.budgetCoarseKeep, within(1, kMaxCoarseKeep), X,
 	  "instead of [view_search]'s"),
+	E("budget.view_search", "coarse_shifted", estimator.views.budgetCoarseShifted, within(0, 64), X,
+	  "the first pass tries the shifted placements only on the rotations ranking in this many times "
+	  "coarse_keep at their others (0: on all, as unbudgeted)"),
 	E("budget.view_search", "depth_centres", estimator.views.budgetDepthCentres, within(0, 4), X,
 	  "at most this many depth centres"),
 	E("budget.view_search", "depth_centre_width", estimator.views.budgetDepthCentreWidth, within(0, 10), X,

@@ -624,8 +624,11 @@ TEST_F(ViewSearchTest, ShiftedPlacementsFindTheObjectOffTheBoxCentre)
 	ViewSearchConfig shifted; // the default shifts
 	ViewSearchConfig centred = shifted;
 	centred.centreShiftShare = 0.0f;
+	// The coarse pass trying the shifts on the best rotations only.
+	ViewSearchConfig best = shifted;
+	best.coarseShifted = 2;
 	const int trials = 12;
-	int found = 0, foundCentred = 0;
+	int found = 0, foundCentred = 0, foundBest = 0;
 	for (int i = 0; i < trials; ++i) {
 		std::vector<float> depth;
 		Pose truth = centredPose(rng, depth);
@@ -637,11 +640,49 @@ TEST_F(ViewSearchTest, ShiftedPlacementsFindTheObjectOffTheBoxCentre)
 		const Eigen::Vector3d voted(0, 0, truth.t.z() + 10);
 		found += finds(shifted, view, K_, voted, truth, 8);
 		foundCentred += finds(centred, view, K_, voted, truth, 8);
+		foundBest += finds(best, view, K_, voted, truth, 8);
 	}
 	RecordProperty("found", found);
 	RecordProperty("found_centred", foundCentred);
-	EXPECT_GE(found, trials / 2); // 8 of 12 measured, 4 centred only
+	RecordProperty("found_best_shifted", foundBest);
+	// 8 of 12 measured, 7 with the shifts on the best rotations only, 4
+	// centred only.
+	EXPECT_GE(found, trials / 2);
 	EXPECT_GT(found, foundCentred + 2);
+	EXPECT_GE(foundBest, found - 2);
+	EXPECT_GT(foundBest, foundCentred + 1);
+}
+
+// Shifted placements tried on at least as many rotations as there are give
+// the same proposals as tried on all of them.
+TEST_F(ViewSearchTest, ShiftedPlacementsOnTheBestRotationsCoveringAllEqualAll)
+{
+	std::mt19937_64 rng(41);
+	std::vector<float> depth;
+	const Pose truth = centredPose(rng, depth);
+	ImageView<const float> view(depth.data(), K_.width, K_.height, K_.width);
+	ViewSearchConfig all;
+	all.inplane = 6; // 1920 rotations
+	ViewSearchConfig covering = all;
+	covering.coarseShifted = 2; // the best 2048
+	ViewSearchConfig few = all;
+	few.coarseKeep = 64;
+	few.coarseShifted = 1; // the best 64 only
+	const Eigen::Vector3d voted(0, 0, truth.t.z() + 10);
+	ViewProposal a[6], b[6], c[6];
+	const size_t na = searchViews(templates(), all, view, K_, voted, a);
+	const size_t nb = searchViews(templates(), covering, view, K_, voted, b);
+	ASSERT_GT(na, 0u);
+	ASSERT_EQ(na, nb);
+	for (size_t i = 0; i < na; ++i) {
+		EXPECT_EQ(a[i].view, b[i].view);
+		EXPECT_EQ(a[i].turn, b[i].turn);
+		EXPECT_EQ(a[i].score, b[i].score);
+		EXPECT_TRUE(a[i].pose.t == b[i].pose.t);
+	}
+	// Fewer: the same centred truth still found.
+	const size_t nc = searchViews(templates(), few, view, K_, voted, c);
+	EXPECT_TRUE(near(c, nc, truth, 8));
 }
 
 // The template grid's rotations are up to ~10 deg from a pose. The climb's
@@ -804,6 +845,7 @@ TEST_F(ViewSearchTest, ThreadsGiveTheSameProposals)
 		ViewSearchConfig cfg;
 		cfg.inplane = 12;
 		cfg.coarseKeep = 300;
+		cfg.coarseShifted = trial == 0 ? 0 : 2; // the shifts on all rotations, on the best only
 		const Eigen::Vector3d voted = truth.t + Eigen::Vector3d(4, -6, 25);
 		const float anchor = trial == 2 ? static_cast<float>(truth.t.z()) : 0.0f;
 		const BoxAxes axes = trial == 1 ? BoxAxes{false, false, {}} : BoxAxes{};
@@ -844,6 +886,7 @@ TEST(ViewSearch, UnderBudgetTakesTheBudgetClimbAndCoarsePass)
 	c.budgetRefineTop = 24;
 	c.budgetCoarsePoints = 12;
 	c.budgetCoarseKeep = 100;
+	c.budgetCoarseShifted = 3;
 	c.depthCentres = 3;
 	c.budgetDepthCentres = 2;
 	c.depthCentreWidth = 0.5f;
@@ -859,6 +902,7 @@ TEST(ViewSearch, UnderBudgetTakesTheBudgetClimbAndCoarsePass)
 	EXPECT_EQ(b.refineTop, 24);
 	EXPECT_EQ(b.coarsePoints, 12);
 	EXPECT_EQ(b.coarseKeep, 100);
+	EXPECT_EQ(b.coarseShifted, 3);
 	EXPECT_EQ(b.depthCentres, 2);
 	EXPECT_EQ(b.depthCentreWidth, 0.0f);
 	EXPECT_TRUE(b.depthFirst);
