@@ -683,43 +683,40 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		std::nth_element(cand, cand + wanted, cand + held0, better);
 		held0 = static_cast<size_t>(wanted);
 	}
-	auto byRotation = [](const ViewCoarseCandidate &a, const ViewCoarseCandidate &b) {
-		return a.view != b.view ? a.view < b.view : a.turn < b.turn;
-	};
-	if (shifting) {
-		// Their shifted placements, in view order so each view is
-		// rotated once per task; a rotation keeps its better score.
-		std::sort(cand, cand + held0, byRotation);
-		const int shiftTasks = static_cast<int>((held0 + kFinePerTask - 1) / kFinePerTask);
-		runTasks(shiftTasks, [&](int task, int) {
+	// Each of the first `count` candidates, sorted by rotation, evaluated
+	// by eval(i, rotated view, scratch) on its view's points (every
+	// stride-th), spread over the threads; each view is rotated once per
+	// task.
+	auto forCandidates = [&](size_t count, int pointStride, auto &&eval) {
+		std::sort(cand, cand + count, [](const ViewCoarseCandidate &a, const ViewCoarseCandidate &b) {
+			return a.view != b.view ? a.view < b.view : a.turn < b.turn;
+		});
+		const int tasks = static_cast<int>((count + kFinePerTask - 1) / kFinePerTask);
+		runTasks(tasks, [&](int task, int) {
 			RotatedView r;
 			EvalScratch s;
-			const size_t i1 = std::min(held0, static_cast<size_t>(task + 1) * kFinePerTask);
+			const size_t i1 = std::min(count, static_cast<size_t>(task + 1) * kFinePerTask);
 			for (size_t i = static_cast<size_t>(task) * kFinePerTask; i < i1; ++i) {
 				if (cand[i].view != r.view)
-					rotateView(r, cand[i].view, stride, s);
-				Eigen::Vector3f t;
-				cand[i].score = std::max(cand[i].score, evaluate(r, cand[i].turn, t, true, s, kShifted));
+					rotateView(r, cand[i].view, pointStride, s);
+				eval(i, r, s);
 			}
 		});
-	}
+	};
+	// Their shifted placements; a rotation keeps its better score.
+	if (shifting)
+		forCandidates(held0, stride, [&](size_t i, const RotatedView &r, EvalScratch &s) {
+			Eigen::Vector3f t;
+			cand[i].score = std::max(cand[i].score, evaluate(r, cand[i].turn, t, true, s, kShifted));
+		});
 	if (held0 > static_cast<size_t>(keep)) {
 		std::nth_element(cand, cand + keep, cand + held0, better);
 		held0 = static_cast<size_t>(keep);
 	}
-	// Fine pass on all points, in view order so each view is rotated once
-	// per task; results by candidate, proposed in that order.
-	std::sort(cand, cand + held0, byRotation);
-	const int fineTasks = static_cast<int>((held0 + kFinePerTask - 1) / kFinePerTask);
-	runTasks(fineTasks, [&](int task, int) {
-		RotatedView r;
-		EvalScratch s;
-		const size_t i1 = std::min(held0, static_cast<size_t>(task + 1) * kFinePerTask);
-		for (size_t i = static_cast<size_t>(task) * kFinePerTask; i < i1; ++i) {
-			if (cand[i].view != r.view)
-				rotateView(r, cand[i].view, 1, s);
-			fine[i].score = evaluate(r, cand[i].turn, fine[i].t, false, s);
-		}
+	// Fine pass on all points; results by candidate, proposed in rotation
+	// order.
+	forCandidates(held0, 1, [&](size_t i, const RotatedView &r, EvalScratch &s) {
+		fine[i].score = evaluate(r, cand[i].turn, fine[i].t, false, s);
 	});
 	for (size_t i = 0; i < held0; ++i)
 		propose(cand[i].view, cand[i].turn, fine[i].score, fine[i].t);
