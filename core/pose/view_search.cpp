@@ -327,7 +327,6 @@ constexpr int kCoarseViewsPerTask = 8;
 // one and the edge insets (placed), and the box-centred one moved to either
 // side (shifted).
 constexpr int kPlaced = 1, kShifted = 2;
-
 constexpr int kFinePerTask = 32;
 
 // View v's points without the repeats of its last one that pad a view with

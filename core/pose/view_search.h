@@ -136,7 +136,7 @@ struct ViewSearchConfig {
 	// coarse points with the turns score higher than 16 without them.
 	int budgetCoarsePoints = 32;
 	int budgetCoarseKeep = 256;
-	// and the shifted placements on the best few (a third less search
+	// and the shifted placements on the best few (a quarter less search
 	// time: more searches fit a 33 ms frame; BENCHMARKS.md).
 	int budgetCoarseShifted = 4;
 	// and at most this many depth centres (a third search fits beside the
