@@ -129,7 +129,9 @@ bool BudgetPlanner::optionalStageFits(Stage stage, double margin)
 
 bool BudgetPlanner::stageFits(Stage stage, double margin, bool scalesWithBox)
 {
-	return fits(costs_.bound(stage, margin, scalesWithBox ? boxWork_ : 1.0) + (stage == kept_ ? 0 : keptCost(margin)));
+	// The stage kept last keeps no room for itself.
+	const int64_t kept = stage == kept_ ? 0 : keptCost(margin);
+	return fits(costs_.bound(stage, margin, scalesWithBox ? boxWork_ : 1.0) + kept);
 }
 
 // Whether predictedNs more still fits the frame and the box; a box is
