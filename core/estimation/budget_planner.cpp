@@ -3,7 +3,10 @@
 
 namespace ihf {
 
-BudgetPlanner::BudgetPlanner(const Clock *clock) : timer_(clock ? *clock : steadyClock_) {}
+BudgetPlanner::BudgetPlanner(const Clock *clock) : timer_(clock ? *clock : steadyClock_)
+{
+	work_.fill(1.0);
+}
 
 void BudgetPlanner::beginFrame(int boxes, float budgetMs)
 {
@@ -27,7 +30,7 @@ void BudgetPlanner::beginBox()
 	budget_.beginBox(boxStartNs_);
 	boxCut_ = false;
 	leanSearch_ = false;
-	boxWork_ = 1.0;
+	work_.fill(1.0);
 }
 
 int64_t BudgetPlanner::endBox()
@@ -74,12 +77,12 @@ int64_t BudgetPlanner::passCost(double margin) const
 
 int64_t BudgetPlanner::polishCost(double margin) const
 {
-	return costs_.bound(Stage::kIcp, margin, boxWork_);
+	return costs_.bound(Stage::kIcp, margin, workOf(Stage::kIcp));
 }
 
 int64_t BudgetPlanner::keptCost(double margin) const
 {
-	return keptLast_ > 0 ? keptLast_ * costs_.bound(kept_, margin, boxWork_) : 0;
+	return keptLast_ > 0 && kept_ != Stage::kCount ? keptLast_ * costs_.bound(kept_, margin, workOf(kept_)) : 0;
 }
 
 int64_t BudgetPlanner::searchCost(double margin, int polishRounds) const
@@ -110,10 +113,11 @@ bool BudgetPlanner::researchFits(double margin, int polishRounds)
 	return false;
 }
 
-bool BudgetPlanner::polishFits(double margin)
+bool BudgetPlanner::polishFits(double margin, Stage then)
 {
+	const int64_t after = then == Stage::kCount ? 0 : costs_.bound(then, margin, workOf(then));
 	// A refused polish round does not count the box as cut short.
-	if (budget_.fits(timer_.now(), polishCost(margin) + keptCost(margin)))
+	if (budget_.fits(timer_.now(), polishCost(margin) + after + keptCost(margin)))
 		return true;
 	++counters_.icpSkipped;
 	return false;
@@ -121,7 +125,7 @@ bool BudgetPlanner::polishFits(double margin)
 
 bool BudgetPlanner::optionalStageFits(Stage stage, double margin)
 {
-	if (budget_.fits(timer_.now(), costs_.bound(stage, margin, boxWork_) + polishCost(margin) + keptCost(margin)))
+	if (budget_.fits(timer_.now(), costs_.bound(stage, margin, workOf(stage)) + polishCost(margin) + keptCost(margin)))
 		return true;
 	costs_.refused(stage);
 	return false;
@@ -131,7 +135,7 @@ bool BudgetPlanner::stageFits(Stage stage, double margin, bool scalesWithBox)
 {
 	// The stage kept last keeps no room for itself.
 	const int64_t kept = stage == kept_ ? 0 : keptCost(margin);
-	return fits(costs_.bound(stage, margin, scalesWithBox ? boxWork_ : 1.0) + kept);
+	return fits(costs_.bound(stage, margin, scalesWithBox ? workOf(stage) : 1.0) + kept);
 }
 
 // Whether predictedNs more still fits the frame and the box; a box is
@@ -161,12 +165,12 @@ void BudgetPlanner::observePolish(int64_t start)
 {
 	// The whole round (its clouds are counted under the cloud stage on
 	// one thread, under ICP on more).
-	costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - start, boxWork_);
+	costs_.observe(Stage::kIcp, timer_.lap(Stage::kIcp) - start, workOf(Stage::kIcp));
 }
 
 void BudgetPlanner::observeStage(Stage stage, int64_t start, bool scalesWithBox)
 {
-	costs_.observe(stage, timer_.lap(stage) - start, scalesWithBox ? boxWork_ : 1.0);
+	costs_.observe(stage, timer_.lap(stage) - start, scalesWithBox ? workOf(stage) : 1.0);
 }
 
 void BudgetPlanner::endRegistration()

@@ -19,6 +19,7 @@
 // the stream estimator (core/tracking) runs its frames on one, its tracked
 // boxes and detections sharing the frame's deadline.
 
+#include <array>
 #include <cstdint>
 
 #include "core/runtime/clock.h"
@@ -76,8 +77,13 @@ public:
 	// (the warm-up's large box) does not keep every later box lean.
 	bool chooseLeanSearch(double leanSearchBelow);
 	// The box's depth pixels: the unit of work of the stages that scale
-	// with it (ICP, the half-turns); 1 for fixed costs.
-	void setBoxWork(double work) { boxWork_ = work; }
+	// with it (ICP, the half-turns); 1 for fixed costs. Every stage's, until
+	// setStageWork() gives one its own.
+	void setBoxWork(double work) { work_.fill(work); }
+	// The unit of work of `stage` in this box: a nearly symmetric object's
+	// turns are compared on a finer window than the box's (part_window.h),
+	// and cost by its pixels.
+	void setStageWork(Stage stage, double work) { work_[static_cast<size_t>(stage)] = work; }
 
 	// What the box runs after its vote passes: view searches, polish rounds
 	// and, last, the stages kept (`keptLast` runs of `kept`, scaled with the
@@ -97,9 +103,10 @@ public:
 	// A re-search round, with its polish rounds and room for the stages
 	// kept last; refusals counted apart.
 	bool researchFits(double margin, int polishRounds);
-	// A polish round (ICP and its score), with room for the stages kept
-	// last; refusals counted apart.
-	bool polishFits(double margin);
+	// A polish round (ICP and its score), with room for a run of `then`
+	// after it (kCount: none) and for the stages kept last; refusals
+	// counted apart.
+	bool polishFits(double margin, Stage then = Stage::kCount);
 	// One run of `stage` (the half-turns), with room for the stages kept
 	// last unless it is one of them.
 	bool stageFits(Stage stage, double margin, bool scalesWithBox);
@@ -144,7 +151,9 @@ private:
 	// budget's own search, the unit a share is counted in.
 	StageCostModel leanCosts_;
 	bool leanSearch_ = false;
-	double boxWork_ = 1.0;
+	// Each stage's unit of work in the box (setBoxWork(), setStageWork()).
+	std::array<double, kStageCount> work_{};
+	double workOf(Stage stage) const { return work_[static_cast<size_t>(stage)]; }
 	int plannedSearches_ = 0;
 	int plannedPolishRounds_ = 0;
 	Stage kept_ = Stage::kCount;

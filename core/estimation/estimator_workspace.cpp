@@ -57,7 +57,10 @@ bool EstimatorWorkspace::carvePersistent(A &arena)
 	       arenaTake(arena, viewFine_, size_t{kMaxCoarseKeep}) &&
 	       arenaTake(arena, kept_, count(std::max(1, l.maxCandidates))) &&
 	       arenaTake(arena, registrationKept_, count(std::max(1, l.maxCandidates))) &&
-	       arenaTake(arena, rivals_, count(l.maxRivals));
+	       arenaTake(arena, rivals_, count(l.maxRivals)) &&
+	       arenaTake(arena, partObserved_, count(l.maxWindowPixels)) &&
+	       arenaTake(arena, partReference_, count(l.maxWindowPixels)) &&
+	       arenaTake(arena, partRender_, count(l.maxWindowPixels) * threads);
 }
 
 template<typename A>
@@ -133,6 +136,17 @@ void EstimatorWorkspace::maskToRange(float nearMm, float farMm)
 void EstimatorWorkspace::maskAll()
 {
 	std::copy_n(observed_.data(), static_cast<size_t>(observedView_.width) * observedView_.height, working_.data());
+}
+
+ImageView<float> EstimatorWorkspace::partReference(int w, int h) const
+{
+	return ImageView<float>(partReference_.data(), w, h, w);
+}
+
+ImageView<float> EstimatorWorkspace::partRender(int slot, int w, int h) const
+{
+	const size_t pixels = static_cast<size_t>(w) * h;
+	return ImageView<float>(partRender_.data() + pixels * static_cast<size_t>(std::max(0, slot)), w, h, w);
 }
 
 WorkSlot EstimatorWorkspace::slot(int slot)

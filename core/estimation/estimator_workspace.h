@@ -4,7 +4,8 @@
 // The estimator's memory and threads, all allocated at start-up (as
 // TensorFlow Lite Micro's allocator): one arena sized from EstimatorLimits
 // holds the persistent buffers at its bottom (the IBS fitter's, the part
-// extractor's, the renderers', the votes', the kept hypotheses') and, above
+// extractor's, the renderers', the votes', the kept hypotheses', the part
+// window's) and, above
 // them, the scratch of the current box, sized to its window and released
 // after it. Each thread of the worker pool has a slot of its own (a
 // renderer, a render buffer, a mask and a cloud), so that threads can score
@@ -138,6 +139,12 @@ public:
 	// A render kept while others are made on the slots: the pose that
 	// rivals are compared with pixel by pixel (symmetry_rivals.h).
 	ImageView<float> reference() const { return referenceView_; }
+	// A finer window of the box for those comparisons (part_window.h):
+	// its crop buffer (maxWindowPixels), and its reference and slot
+	// renders at w x h.
+	std::span<float> partCropBuffer() { return partObserved_; }
+	ImageView<float> partReference(int w, int h) const;
+	ImageView<float> partRender(int slot, int w, int h) const;
 	// Thread `slot`'s renderer and buffers (0: the caller's).
 	WorkSlot slot(int slot);
 
@@ -167,6 +174,7 @@ private:
 	std::span<ViewFineResult> viewFine_;
 	std::span<Hypothesis> kept_, registrationKept_;
 	std::span<RivalPose> rivals_;
+	std::span<float> partObserved_, partReference_, partRender_; // part_window.h (one render per slot)
 
 	// Per box (sized to its window).
 	std::span<float> working_;

@@ -118,9 +118,13 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	BoxScorer scorer(workspace_, ScoreWindow{workspace_.observed(), crop.intrinsics, openSides_, &config.score},
 			 model);
 	HypothesisPolisher polisher(workspace_, voter_, timer_, scorer, config);
+	PartWindow parts(workspace_, model, scorer.window(), crop.validPixels);
 	pool_.beginBox(crop.rotation, diameter, config.iterations);
 	ProposalBox proposals{config, model, boxAxes(openSides_), boundingBox(model.mesh()).centre().cast<double>(),
-			      requested.iterations, findSlabs(config, diameter), workspace_, scorer, pool_, polisher, planner_};
+			      requested.iterations, findSlabs(config, diameter), workspace_, scorer, pool_, polisher,
+			      planner_, parts};
+	if (symmetryTurns_.enabled(proposals))
+		comparePartsAtFullWindow(proposals, depth, K, box, crop.downsample);
 	planAfterPasses(proposals);
 
 	// The initial registration's votes, then k refinement iterations.
@@ -163,6 +167,18 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 
 	finish(proposals, crop.rotation, best, out);
 	return out;
+}
+
+// A nearly symmetric object's turns are compared on the box cropped again
+// at the limits' window, however coarse the budget's; the budget predicts
+// their comparison by that window's pixels.
+void PoseEstimator::comparePartsAtFullWindow(ProposalBox &box, ImageView<const float> depth,
+					     const CameraIntrinsics &K, const PixelBox &pixelBox, int downsample)
+{
+	box.parts.cropFiner(depth, K, pixelBox, downsample, limits().maxWindowPixels);
+	timer_.lap(Stage::kCrop);
+	if (box.config.budgetScaleByBox)
+		planner_.setStageWork(Stage::kSymmetryTurns, std::max(1, box.parts.validPixels()));
 }
 
 const EstimatorConfig &PoseEstimator::boxSettings(const EstimatorConfig &requested, EstimatorConfig &budgeted)

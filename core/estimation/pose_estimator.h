@@ -195,6 +195,8 @@ private:
 	// The registration, then k refinement iterations, each under the
 	// budget; bests[0] gets the registration's best, bests[1] the last
 	// refinement's.
+	void comparePartsAtFullWindow(ProposalBox &box, ImageView<const float> depth, const CameraIntrinsics &K,
+				      const PixelBox &pixelBox, int downsample);
 	void voteAndRefine(ProposalBox &box, HypothesisPolisher &polisher, Hypothesis (&bests)[2], PoseEstimate &out);
 	// The chosen candidates polished in rounds of the pool's threads, each
 	// round under the budget; best takes any better polish.

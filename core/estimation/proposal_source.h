@@ -19,6 +19,7 @@
 #include "core/estimation/estimator_config.h"
 #include "core/estimation/estimator_workspace.h"
 #include "core/estimation/hypothesis_polisher.h"
+#include "core/estimation/part_window.h"
 #include "core/model/object_model.h"
 #include "core/pose/view_search.h"
 
@@ -37,6 +38,7 @@ struct ProposalBox {
 	CandidatePool &pool;
 	HypothesisPolisher &polisher;
 	BudgetPlanner &planner;
+	PartWindow &parts;             // the box as a pose's turns are compared pixel by pixel
 };
 
 class ProposalSource

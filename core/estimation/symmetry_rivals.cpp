@@ -122,44 +122,47 @@ bool SymmetryRivalSource::isTurnOf(const ProposalBox &box, const Pose &best, con
 	return false;
 }
 
-bool SymmetryRivalSource::compareWithBest(ProposalBox &box, const Pose &best, std::span<Rival> rivals,
-					  PoseDifference difference)
+bool SymmetryRivalSource::compareWithBest(ProposalBox &box, PartWindow &window, const Pose &best,
+					  std::span<Rival> rivals, PoseDifference difference)
 {
 	// The best's render kept; each rival rendered on its thread's slot and
 	// compared with it.
-	if (!box.scorer.render(best, 0))
+	if (!window.render(best, 0))
 		return false;
-	const ImageView<float> reference = box.workspace.reference();
-	const ImageView<float> bestRender = box.workspace.slot(0).render;
+	const ImageView<float> reference = window.reference();
+	const ImageView<float> bestRender = window.rendered(0);
 	for (int y = 0; y < reference.height; ++y)
 		std::copy_n(bestRender.row(y), reference.width, reference.row(y));
 	Rival *all[kMaxSymmetryTurns];
 	const size_t n = std::min(rivals.size(), std::size(all));
 	for (size_t k = 0; k < n; ++k)
 		all[k] = &rivals[k];
-	compareWithReference(box, std::span<Rival *>(all, n), difference);
+	compareWithReference(box, window, std::span<Rival *>(all, n), difference);
 	return true;
 }
 
-void SymmetryRivalSource::compareWithReference(ProposalBox &box, std::span<Rival *> rivals,
+void SymmetryRivalSource::compareWithReference(ProposalBox &box, PartWindow &window, std::span<Rival *> rivals,
 					       PoseDifference difference)
 {
-	const ImageView<const float> reference = box.workspace.reference();
-	const ImageView<const float> observed = box.scorer.window().observed;
+	// The window is cropped (on first use) before the threads share it.
+	const ImageView<const float> reference = window.reference();
+	const ImageView<const float> observed = window.observed();
 	const float tolerance = box.config.score.inlierMm;
 	box.workspace.workers().run(static_cast<int>(rivals.size()), [&](int k, int slot) {
 		Rival &t = *rivals[static_cast<size_t>(k)];
 		t.evidence = {};
-		if (box.scorer.render(t.pose, slot))
-			t.evidence =
-				comparePoseRenders(observed, reference, box.workspace.slot(slot).render, tolerance, difference);
+		if (window.render(t.pose, slot))
+			t.evidence = comparePoseRenders(observed, reference, window.rendered(slot), tolerance, difference);
 	});
 }
 
 void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best, std::span<Rival> rivals)
 {
 	const SymmetryTurnConfig &cfg = box.config.symmetryTurns;
-	if (cfg.polishRivals <= 0 || !box.config.icp || !box.planner.polishFits(box.config.budgetMargin))
+	// The polish, then a comparison of the polished turns (on the part
+	// window, whose renders cost more than the box's).
+	if (cfg.polishRivals <= 0 || !box.config.icp ||
+	    !box.planner.polishFits(box.config.budgetMargin, Stage::kSymmetryTurns))
 		return;
 	// The turns the best does not clearly beat, the one the depth prefers
 	// most first.
@@ -204,7 +207,7 @@ void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best,
 		t.polished = out[j];
 		picked[moved++] = &t;
 	}
-	compareWithReference(box, std::span<Rival *>(picked, moved), PoseDifference::kPart);
+	compareWithReference(box, box.parts, std::span<Rival *>(picked, moved), PoseDifference::kPart);
 	// Each turn is judged as the depth likes it best, polished or not: the
 	// polish gives a rival its chance, and does not hide one the best does
 	// not beat.
@@ -233,7 +236,9 @@ Hypothesis SymmetryRivalSource::preferredCloseRival(ProposalBox &box, const Hypo
 {
 	const int64_t start = box.planner.timer().last();
 	size_t n = closeRivalsOf(box, best, scratch);
-	if (!compareWithBest(box, best.pose, scratch.first(n), PoseDifference::kSilhouette))
+	// They differ over their silhouettes: the box's own window serves.
+	PartWindow window(box.workspace, box.model, box.scorer.window(), 0);
+	if (!compareWithBest(box, window, best.pose, scratch.first(n), PoseDifference::kSilhouette))
 		n = 0;
 	box.planner.observeStage(Stage::kCloseRivals, start, true);
 	const Rival *winner = clearest(scratch.first(n), box.config.symmetryTurns);
@@ -286,12 +291,13 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 			break;
 		const int64_t start = box.planner.timer().last();
 		size_t n = turnsOf(box, current.pose, std::span<Rival>(rivals, kMaxSymmetryTurns));
-		if (!compareWithBest(box, current.pose, std::span<Rival>(rivals, n), PoseDifference::kPart))
+		if (!compareWithBest(box, box.parts, current.pose, std::span<Rival>(rivals, n), PoseDifference::kPart))
 			n = 0;
 		box.planner.observeStage(Stage::kSymmetryTurns, start, true);
-		// The rivals' polish is a polish round of its own (polishFits()):
-		// the stage's cost, and the time a budget keeps for it, is the
-		// comparison's alone.
+		// The rivals' polish is a polish round of its own (polishFits(),
+		// with room for comparing the polished turns again): the stage's
+		// cost, and the time a budget keeps for it, is the comparison's
+		// alone.
 		polishRivals(box, current, std::span<Rival>(rivals, n));
 		box.planner.timer().resume(Stage::kSymmetryTurns);
 		verdict_.ran = true;
@@ -300,13 +306,18 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 		verdict_.decisive = false;
 		// The turn the depth prefers most clearly, if any.
 		const Rival *winner = clearest(std::span<const Rival>(rivals, n), cfg);
+		// Certain only on a lead the box's own window would count too: a
+		// budget's poses are polished less, and on the finer part window a
+		// lead of a few pixels is as often their misalignment as the part.
+		SymmetryTurnConfig certain = cfg;
+		certain.minPixels = static_cast<int>(std::lround(cfg.minPixels * box.parts.fineness()));
 		int distinctTurns = 0, beaten = 0;
 		for (size_t k = 0; k < n; ++k) {
 			const Rival &t = rivals[k];
 			if (!t.distinct)
 				continue;
 			++distinctTurns;
-			if (decisivelyBy(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg)) {
+			if (decisivelyBy(t.evidence.forA, t.evidence.forB, t.evidence.informative, certain)) {
 				++beaten;
 			} else if (!verdict_.ambiguous) {
 				verdict_.ambiguous = true;

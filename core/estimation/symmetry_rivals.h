@@ -79,14 +79,16 @@ private:
 	// axis stay close rivals: the polished pose fits better than the turn
 	// the comparison makes.
 	static bool isTurnOf(const ProposalBox &box, const Pose &best, const Pose &pose, double distinctMm);
-	// best rendered as the workspace's reference, and each rival compared
-	// with it; false when best cannot be rendered. difference: how the
-	// rivals differ from best (best's turns by a part, close rivals over
-	// their silhouettes).
-	static bool compareWithBest(ProposalBox &box, const Pose &best, std::span<Rival> rivals,
+	// best rendered as the window's reference, and each rival compared
+	// with it in the window; false when best cannot be rendered.
+	// difference: how the rivals differ from best (best's turns by a part,
+	// on the box's part window; close rivals over their silhouettes, on
+	// the box's own).
+	static bool compareWithBest(ProposalBox &box, PartWindow &window, const Pose &best, std::span<Rival> rivals,
 				    PoseDifference difference);
-	// Each rival rendered and compared with the reference.
-	static void compareWithReference(ProposalBox &box, std::span<Rival *> rivals, PoseDifference difference);
+	// Each rival rendered and compared with the window's reference.
+	static void compareWithReference(ProposalBox &box, PartWindow &window, std::span<Rival *> rivals,
+					 PoseDifference difference);
 	// The turns the best does not clearly beat, at most
 	// SymmetryTurnConfig::polishRivals of them, the one the depth prefers
 	// most first, polished and compared again: the turn of a best that is

@@ -7,8 +7,9 @@
 // with a polish and the stage kept last after it; a polish round and
 // another stage keep that room too, until the kept stage begins; polish
 // and re-search refusals are counted apart from the boxes cut short; a lean
-// box's search is measured apart from the budget's own; forgetting the
-// counts keeps the cost models.
+// box's search is measured apart from the budget's own; a stage given a
+// unit of work of its own is predicted by it, also when a polish round
+// asks room for it; forgetting the counts keeps the cost models.
 
 #include <initializer_list>
 #include <utility>
@@ -172,6 +173,49 @@ TEST(BudgetPlanner, PolishAndOtherStagesKeepRoomForTheStageKeptLastUntilItBegins
 	// Once the comparison begins, its own polish rounds need only their time.
 	p.beginKept();
 	EXPECT_TRUE(p.polishFits(0));
+}
+
+TEST(BudgetPlanner, AStageWithWorkOfItsOwnIsPredictedByIt)
+{
+	ManualClock clock;
+	BudgetPlanner p(&clock);
+	// Measured in a box of 100 depth pixels: a polish round 2 ms, the
+	// comparison of the turns 3 ms (its window as fine as the box's).
+	p.beginFrame(1, 0.0f);
+	p.beginBox();
+	p.setBoxWork(100);
+	int64_t start = p.timer().last();
+	clock.t += 2 * kMs;
+	p.observePolish(start);
+	start = p.timer().last();
+	clock.t += 3 * kMs;
+	p.observeStage(Stage::kSymmetryTurns, start, true);
+	p.endFrame(p.endBox());
+
+	// A box as large, its turns compared on a window of 300 pixels: the
+	// comparison is predicted at 9 ms, the polish still at 2.
+	p.beginFrame(1, 10.0f);
+	p.beginBox();
+	p.setBoxWork(100);
+	p.setStageWork(Stage::kSymmetryTurns, 300);
+	p.plan(0, 0, Stage::kSymmetryTurns, 1);
+	clock.t += 1 * kMs; // 9 ms left
+	EXPECT_TRUE(p.stageFits(Stage::kSymmetryTurns, 0, true));
+	EXPECT_FALSE(p.polishFits(0)); // 2 + 9 do not fit
+	clock.t += 1 * kMs; // 8 ms left
+	EXPECT_FALSE(p.stageFits(Stage::kSymmetryTurns, 0, true));
+	p.beginKept();
+	EXPECT_TRUE(p.polishFits(0));
+	// A polish of the turns with a comparison of them after it: 2 + 9.
+	EXPECT_FALSE(p.polishFits(0, Stage::kSymmetryTurns));
+	p.endFrame(p.endBox());
+
+	// The next box starts with every stage at its own box's work again.
+	p.beginFrame(1, 10.0f);
+	p.beginBox();
+	p.setBoxWork(100);
+	clock.t += 2 * kMs; // 8 ms left
+	EXPECT_TRUE(p.stageFits(Stage::kSymmetryTurns, 0, true));
 }
 
 TEST(BudgetPlanner, PolishAndResearchRefusalsAreCountedApart)

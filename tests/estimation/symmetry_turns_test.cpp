@@ -2,9 +2,11 @@
 // A nearly symmetric object end to end: a cup (core/synth/household_objects.h)
 // trained small, its near-symmetry found at training, rendered in front of a
 // wall. Seen with its handle to the side, it is placed with the handle
-// right and not flagged; seen with the handle hidden behind its body, the
-// pose comes back flagged ambiguous about the cup's axis, its confidence
-// scaled down, and so does every pose that tracks it in the frames after.
+// right and not flagged, and placed right through a window too coarse to
+// show the handle (the turns compared on a finer one); seen with the
+// handle hidden behind its body, the pose comes back flagged ambiguous
+// about the cup's axis, its confidence scaled down, and so does every pose
+// that tracks it in the frames after.
 // The stage alone, given the cup upside down and slid along its axis as the
 // best, takes the truth among the reported poses unless its score lies far
 // below, and leaves a turn about the axis to the turns.
@@ -180,6 +182,33 @@ TEST_F(SymmetryTurns, HandleHiddenIsFlaggedAmbiguous)
 	EXPECT_FALSE(plain.ambiguous);
 }
 
+// A box seen through a coarse window (a budget's, downsampled to at most
+// 300 pixels here: the handle then covers a pixel or two) compares the
+// cup's turns on the box cropped again at the estimator's full window, and
+// the handle is placed right. With the estimator's limit as coarse as the
+// box's window they are compared there, and the handle is turned wrong.
+TEST_F(SymmetryTurns, ACoarseWindowComparesTheTurnsAtFullResolution)
+{
+	EstimatorConfig coarse;
+	coarse.windowPixels = 300;
+	EstimatorLimits coarseLimits;
+	coarseLimits.maxWindowPixels = coarse.windowPixels;
+	const Pose gt = viewOfCup(120.0, 25.0);
+	DepthImageMm depth(640, 480, 0.0f);
+	const PixelBox box = scene(gt, depth);
+
+	PoseEstimator estimator;
+	const PoseEstimate e = estimator.estimate(depth.view(), kKinect, box, *model_, coarse);
+	ASSERT_TRUE(e.found) << e.reason;
+	EXPECT_LT(handleAngleDeg(e.pose, gt), 15.0);
+	EXPECT_LT(addError(e.pose, gt, model_->mesh().vertices), 0.1 * model_->params().diameter);
+
+	PoseEstimator limited(coarseLimits);
+	const PoseEstimate c = limited.estimate(depth.view(), kKinect, box, *model_, coarse);
+	ASSERT_TRUE(c.found) << c.reason;
+	EXPECT_GT(handleAngleDeg(c.pose, gt), 15.0) << "the coarse window alone tells the handle";
+}
+
 // The stage's source alone on a 200 x 200 window of a clean cup: the pool
 // holds the reported poses, `best` is what the estimator would hand it.
 class CloseRivalBox
@@ -198,8 +227,9 @@ public:
 		scorer_.emplace(workspace_, ScoreWindow{workspace_.observed(), kWindow, OpenSides{}, &config_.score}, model);
 		polisher_.emplace(workspace_, voter_, planner_.timer(), *scorer_, config_);
 		pool_.beginBox(Eigen::Matrix3d::Identity(), model.params().diameter, 0);
+		parts_.emplace(workspace_, model, scorer_->window(), kWindow.width * kWindow.height);
 		box_.emplace(ProposalBox{config_, model, BoxAxes{}, boundingBox(model.mesh()).centre().cast<double>(), 0, 0,
-					 workspace_, *scorer_, pool_, *polisher_, planner_});
+					 workspace_, *scorer_, pool_, *polisher_, planner_, *parts_});
 	}
 	~CloseRivalBox() { workspace_.endBox(); }
 
@@ -227,6 +257,7 @@ private:
 	EstimatorConfig config_;
 	std::optional<BoxScorer> scorer_;
 	std::optional<HypothesisPolisher> polisher_;
+	std::optional<PartWindow> parts_;
 	std::optional<ProposalBox> box_;
 };
 
