@@ -5,9 +5,8 @@
 // TensorFlow Lite Micro's allocator): one arena sized from EstimatorLimits
 // holds the persistent buffers at its bottom (the IBS fitter's, the part
 // extractor's, the renderers', the votes', the kept hypotheses', the part
-// window's) and, above
-// them, the scratch of the current box, sized to its window and released
-// after it. Each thread of the worker pool has a slot of its own (a
+// window's) and, above them, the scratch of the current box, sized to its
+// window and released after it. Each thread of the worker pool has a slot of its own (a
 // renderer, a render buffer, a mask and a cloud), so that threads can score
 // and polish side by side. Nothing is allocated per box.
 

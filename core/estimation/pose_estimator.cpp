@@ -169,12 +169,12 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 	return out;
 }
 
-// A nearly symmetric object's turns are compared on the box cropped again
-// at the limits' window, however coarse the budget's; the budget predicts
-// their comparison by that window's pixels.
 void PoseEstimator::comparePartsAtFullWindow(ProposalBox &box, ImageView<const float> depth,
 					     const CameraIntrinsics &K, const PixelBox &pixelBox, int downsample)
 {
+	// Cropped at the limit already (unbudgeted): a crop again would be the same.
+	if (boxWindowBuffer(box.config).size() >= workspace_.partCropBuffer().size())
+		return;
 	box.parts.cropFiner(depth, K, pixelBox, downsample, limits().maxWindowPixels);
 	timer_.lap(Stage::kCrop);
 	if (box.config.budgetScaleByBox)
@@ -194,6 +194,14 @@ const EstimatorConfig &PoseEstimator::boxSettings(const EstimatorConfig &request
 	return budgeted;
 }
 
+std::span<float> PoseEstimator::boxWindowBuffer(const EstimatorConfig &config)
+{
+	std::span<float> window = workspace_.cropBuffer();
+	if (config.windowPixels > 0 && static_cast<size_t>(config.windowPixels) < window.size())
+		window = window.first(static_cast<size_t>(config.windowPixels));
+	return window;
+}
+
 const char *PoseEstimator::startBox(ImageView<const float> depth, const CameraIntrinsics &K, const PixelBox &box,
 				    const ObjectModel &model, const EstimatorConfig &config, VirtualCrop &crop)
 {
@@ -204,10 +212,7 @@ const char *PoseEstimator::startBox(ImageView<const float> depth, const CameraIn
 	if (model.forest().dims > limits().maxHistogramDims)
 		return "forest histogram longer than the estimator's limit";
 	workspace_.setCulling(config.cullBackFaces && model.renderMeshClosed());
-	std::span<float> window = workspace_.cropBuffer();
-	if (config.windowPixels > 0 && static_cast<size_t>(config.windowPixels) < window.size())
-		window = window.first(static_cast<size_t>(config.windowPixels));
-	const CropStatus status = makeVirtualCrop(depth, K, box, window, crop);
+	const CropStatus status = makeVirtualCrop(depth, K, box, boxWindowBuffer(config), crop);
 	timer_.lap(Stage::kCrop);
 	if (status != CropStatus::kOk)
 		return status == CropStatus::kOutsideImage ? "box outside the image" : "empty box";

@@ -36,6 +36,8 @@
 // best hypothesis so far.
 // Per-stage times, budget stops and overruns are counted (stats()).
 
+#include <span>
+
 #include "core/common/expected.h"
 #include "core/common/fixed_list.h"
 #include "core/common/image.h"
@@ -182,6 +184,15 @@ private:
 	// why the box cannot be estimated.
 	const char *startBox(ImageView<const float> depth, const CameraIntrinsics &K, const PixelBox &box,
 			     const ObjectModel &model, const EstimatorConfig &config, VirtualCrop &crop);
+	// The crop buffer a box's window is cropped into: the limits' window,
+	// or the config's when smaller.
+	std::span<float> boxWindowBuffer(const EstimatorConfig &config);
+	// A nearly symmetric object's turns compared on the box cropped again
+	// at the limits' window (part_window.h), when its own window was cropped
+	// coarser; the budget then predicts the comparison by that window's
+	// pixels.
+	void comparePartsAtFullWindow(ProposalBox &box, ImageView<const float> depth, const CameraIntrinsics &K,
+				      const PixelBox &pixelBox, int downsample);
 	// The dense depth slabs of the box (depth_windows.h); returns how many.
 	size_t findSlabs(const EstimatorConfig &config, double diameter);
 	// Tells the planner what the box runs after its vote passes.
@@ -195,8 +206,6 @@ private:
 	// The registration, then k refinement iterations, each under the
 	// budget; bests[0] gets the registration's best, bests[1] the last
 	// refinement's.
-	void comparePartsAtFullWindow(ProposalBox &box, ImageView<const float> depth, const CameraIntrinsics &K,
-				      const PixelBox &pixelBox, int downsample);
 	void voteAndRefine(ProposalBox &box, HypothesisPolisher &polisher, Hypothesis (&bests)[2], PoseEstimate &out);
 	// The chosen candidates polished in rounds of the pool's threads, each
 	// round under the budget; best takes any better polish.

@@ -144,7 +144,6 @@ bool SymmetryRivalSource::compareWithBest(ProposalBox &box, PartWindow &window, 
 void SymmetryRivalSource::compareWithReference(ProposalBox &box, PartWindow &window, std::span<Rival *> rivals,
 					       PoseDifference difference)
 {
-	// The window is cropped (on first use) before the threads share it.
 	const ImageView<const float> reference = window.reference();
 	const ImageView<const float> observed = window.observed();
 	const float tolerance = box.config.score.inlierMm;
