@@ -22,12 +22,51 @@ bool onOutline(ImageView<const float> rendered, const float *row, int x, int y)
 	return y + 1 < rendered.height && !(rendered.row(y + 1)[x] > 0);
 }
 
+// The scene `offset` pixels outward of an inlier (x, y) at depth z on each
+// side where the rendering ends: drops (farther by more than jumpMm) and
+// continues (within jumpMm) counted into s.
+void countEdges(ImageView<const float> observed, ImageView<const float> rendered, int x, int y, float z,
+		int offset, float jumpMm, HypothesisScore &s)
+{
+	constexpr int kDx[4] = {1, -1, 0, 0}, kDy[4] = {0, 0, 1, -1};
+	for (int d = 0; d < 4; ++d) {
+		const int xn = x + kDx[d], yn = y + kDy[d];
+		if (xn < 0 || yn < 0 || xn >= rendered.width || yn >= rendered.height || rendered.row(yn)[xn] > 0)
+			continue;
+		const int xo = x + offset * kDx[d], yo = y + offset * kDy[d];
+		if (xo < 0 || yo < 0 || xo >= observed.width || yo >= observed.height)
+			continue; // outside the window: unknown
+		const float beyond = observed.row(yo)[xo];
+		if (!(beyond > 0))
+			continue;
+		if (beyond > z + jumpMm)
+			s.edgeDrops++;
+		else if (beyond >= z - jumpMm)
+			s.edgeContinues++;
+	}
+}
+
+float edgeFactorOf(const HypothesisScore &s, const ScoreConfig &config)
+{
+	if (!(config.edgeShare > 0))
+		return 1.0f;
+	const float prior = std::max(0.0f, config.edgePrior);
+	const float edges = static_cast<float>(s.edgeDrops) + prior * config.edgeShare;
+	const float all = static_cast<float>(s.edgeDrops + s.edgeContinues) + prior;
+	if (!(all > 0))
+		return 1.0f;
+	return std::min(1.0f, edges / all / config.edgeShare);
+}
+
 } // namespace
 
 HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const float> rendered,
-				const ScoreConfig &config)
+				const ScoreConfig &config, int downsample)
 {
 	HypothesisScore s;
+	const bool edges = config.edgeShare > 0;
+	const int ds = std::max(1, downsample);
+	const int offset = std::max(1, (config.edgeOffsetPx + ds / 2) / ds); // in the window's pixels
 	float lo = std::numeric_limits<float>::max(), hi = 0;
 	float fit = 0; // inliers, each weighted by its residual
 	for (int y = 0; y < rendered.height; ++y) {
@@ -48,6 +87,8 @@ HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const
 				continue;
 			s.compared++;
 			if (inlier) {
+				if (edges)
+					countEdges(observed, rendered, x, y, r[x], offset, config.edgeJumpMm, s);
 				s.inliers++;
 				fit += inlierFit(e, config.inlierMm, config.residualWeight);
 			} else if (e > 0)
@@ -62,7 +103,8 @@ HypothesisScore scoreHypothesis(ImageView<const float> observed, ImageView<const
 	}
 	s.depthScore = depthAgreement(fit, s.inliers, s.outliers, s.occluded, config.outlierWeight,
 				      config.occludedWeight);
-	s.score = s.depthScore;
+	s.edgeFactor = edgeFactorOf(s, config);
+	s.score = s.depthScore * s.edgeFactor;
 	return s;
 }
 

@@ -115,7 +115,8 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		return out;
 	}
 	const double diameter = model.params().diameter;
-	BoxScorer scorer(workspace_, ScoreWindow{workspace_.observed(), crop.intrinsics, openSides_, &config.score},
+	BoxScorer scorer(workspace_,
+			 ScoreWindow{workspace_.observed(), crop.intrinsics, openSides_, &config.score, crop.downsample},
 			 model);
 	HypothesisPolisher polisher(workspace_, voter_, timer_, scorer, config);
 	PartWindow parts(workspace_, model, scorer.window(), crop.validPixels);
@@ -429,7 +430,8 @@ Expected<HypothesisScore> PoseEstimator::scorePose(ImageView<const float> depth,
 	Pose virt;
 	virt.R = crop.rotation.transpose() * pose.R;
 	virt.t = crop.rotation.transpose() * pose.t;
-	BoxScorer scorer(workspace_, ScoreWindow{workspace_.observed(), vk, openSides_, &config.score}, model);
+	BoxScorer scorer(workspace_, ScoreWindow{workspace_.observed(), vk, openSides_, &config.score, crop.downsample},
+			 model);
 	const HypothesisScore s = scorer.score(virt);
 	workspace_.endBox();
 	return s;

@@ -16,10 +16,10 @@ HypothesisScore scoreInWindow(const ScoreWindow &window, DepthRenderer &renderer
 	if (!renderModel(renderer, render, model, pose, window.K))
 		return {};
 	const ScoreConfig &config = *window.config;
-	HypothesisScore s = scoreHypothesis(window.observed, render, config);
+	HypothesisScore s = scoreHypothesis(window.observed, render, config, window.downsample);
 	s.boxFactor = boxAgreement(model.renderMesh(), pose, window.K, config,
 				   occludedSides(window.observed, render, config, window.open));
-	s.score = s.depthScore * s.boxFactor;
+	s.score = s.depthScore * s.boxFactor * s.edgeFactor;
 	return s;
 }
 

@@ -25,6 +25,7 @@ struct ScoreWindow {
 	CameraIntrinsics K; // of the window
 	OpenSides open;
 	const ScoreConfig *config = nullptr;
+	int downsample = 1; // sensor pixels to a window pixel
 };
 
 // The pose rendered with the model's render mesh into `render` (cleared

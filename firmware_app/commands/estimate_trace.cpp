@@ -103,9 +103,11 @@ void EstimateTrace::onHypothesis(const HypothesisEvent &e)
 	writePose(e.pose);
 	std::fprintf(f_,
 		     ",\"score\":%.4f,\"depth_score\":%.4f,\"box\":%.4f,\"inliers\":%d,\"outliers\":%d,"
-		     "\"occluded\":%d,\"rendered\":%d,\"density\":%.4f}\n",
+		     "\"occluded\":%d,\"rendered\":%d,\"edge\":%.4f,\"edge_drops\":%d,\"edge_continues\":%d,"
+		     "\"density\":%.4f}\n",
 		     e.score.score, e.score.depthScore, e.score.boxFactor, e.score.inliers, e.score.outliers,
-		     e.score.occluded, e.score.rendered, e.voteDensity);
+		     e.score.occluded, e.score.rendered, e.score.edgeFactor, e.score.edgeDrops, e.score.edgeContinues,
+		     e.voteDensity);
 }
 
 void EstimateTrace::writeString(const std::string &text)

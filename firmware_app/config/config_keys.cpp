@@ -98,6 +98,9 @@ const KeyDesc kEstimateKeys[] = {
 	E("score", "skip_edge_outliers", estimator.score.skipEdgeOutliers, kAny, X,
 	  "an outlier on the rendering's outline does not count: sensors' edges wander by a pixel or float between "
 	  "surfaces"),
+	E("score", "edge_share", estimator.score.edgeShare, within(0, 1), X,
+	  "the score is scaled by min(1, b / this), b the share of the pose's visible outline where the scene drops "
+	  "away outside it: a pose laid on a surface that goes on past its outline (an occluder's face) loses (0: off)"),
 
 	E("icp", "enabled", estimator.icp, kAny, U, "polish the best hypotheses with ICP (not in the paper)"),
 	E("icp", "candidates", estimator.icpCandidates, atLeast(0), U,

@@ -279,10 +279,12 @@ TEST_F(EndToEnd, RefinementPolishesTheForestsOwnBests)
 	PoseEstimator estimator;
 	estimator.setObserver(&events);
 	EstimatorConfig cfg = refining(1); // the ranking alone polishes only its best
-	// Occluded 0.2 and box power 1 (the weights for modal boxes), under
-	// which this scene ranks both forest bests below the first.
+	// Occluded 0.2 and box power 1 (the weights for modal boxes) and no
+	// outline edge factor, under which this scene ranks both forest bests
+	// below the first.
 	cfg.score.occludedWeight = 0.2f;
 	cfg.score.boxWeight = 1.0f;
+	cfg.score.edgeShare = 0.0f;
 	PoseEstimate e = estimator.estimate(depth.view(), kKinect, box, *model_, cfg);
 	ASSERT_TRUE(e.found) << e.reason;
 

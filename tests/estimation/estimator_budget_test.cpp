@@ -650,6 +650,8 @@ TEST_F(EstimatorBudget, WithoutItsArenaTheEstimatorSaysSo)
 // With threads the clock is still read by the calling thread alone, so the
 // budget holds as with one: refinement cut short within the frame, the
 // polish rounds (two candidates a round) and half-turns under the check.
+// Warmed up as ihf run is: a stage never measured is predicted free
+// (WarmUpMeasuresEveryStageBeforeTheFirstFrame).
 TEST_F(EstimatorBudget, BudgetRespectedWithThreads)
 {
 	for (float budget : {40.0f, 70.0f, 120.0f}) {
@@ -660,6 +662,7 @@ TEST_F(EstimatorBudget, BudgetRespectedWithThreads)
 		EstimatorConfig c = config(50, budget, true);
 		c.icpCandidates = 4;
 		c.halfTurns = HalfTurnConfig{1, 8, 1};
+		ASSERT_TRUE(e.warmUp(*model_->model, test::kKinect, c).ok());
 		PoseEstimate r = run(e, c);
 		ASSERT_TRUE(r.found) << r.reason;
 		EXPECT_TRUE(r.budgetStopped);

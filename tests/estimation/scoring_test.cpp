@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Hypothesis scoring pieces: the depth slabs of the first registration, the
 // agreement of a pose with the given box (and its sides the scene hides),
-// and the outline's outliers.
+// the outline's outliers, and the scene just outside the outline.
 #include <utility>
 #include <vector>
 
@@ -252,6 +252,71 @@ TEST(HypothesisScore, ResidualWeightPrefersTheTighterFit)
 	EXPECT_FLOAT_EQ(l.depthScore, 1.0f - 0.64f);
 	cfg.residualWeight = 0.5f;
 	EXPECT_FLOAT_EQ(scoreHypothesis(o, rl, cfg).depthScore, 1.0f - 0.32f);
+}
+
+// An 18 x 18 window at `scene` mm with a 6 x 6 block drawn at 800 mm in
+// its middle (pixels 6..11), where the scene is at 800 mm too.
+struct OutlineScene {
+	std::vector<float> obs = std::vector<float>(18 * 18), ren = std::vector<float>(18 * 18, 0.0f);
+	ImageView<float> o{obs.data(), 18, 18, 18}, r{ren.data(), 18, 18, 18};
+	explicit OutlineScene(float scene)
+	{
+		o.fill(scene);
+		for (int y = 6; y < 12; ++y)
+			for (int x = 6; x < 12; ++x) {
+				r.at(x, y) = 800.0f;
+				o.at(x, y) = 800.0f;
+			}
+	}
+};
+
+TEST(HypothesisScore, APoseLaidOnASurfaceThatGoesOnLosesToOneWithEdges)
+{
+	// The same depth fit, all inliers: on an object in front of a wall
+	// 400 mm behind, every side of the outline drops away; laid on a
+	// plane, the plane goes on past every side.
+	ScoreConfig cfg;
+	const OutlineScene object(1200.0f), plane(800.0f);
+	const HypothesisScore onObject = scoreHypothesis(object.o, object.r, cfg);
+	const HypothesisScore onPlane = scoreHypothesis(plane.o, plane.r, cfg);
+	EXPECT_FLOAT_EQ(onObject.depthScore, onPlane.depthScore);
+	EXPECT_EQ(onObject.edgeDrops, 24); // 6 pixels a side, 4 sides
+	EXPECT_EQ(onObject.edgeContinues, 0);
+	EXPECT_EQ(onPlane.edgeDrops, 0);
+	EXPECT_EQ(onPlane.edgeContinues, 24);
+	EXPECT_FLOAT_EQ(onObject.edgeFactor, 1.0f);
+	// (0 + 5 x 0.1) / (24 + 5), against the share 0.1 a true pose reaches.
+	EXPECT_FLOAT_EQ(onPlane.edgeFactor, 0.5f / 29.0f / 0.1f);
+	EXPECT_FLOAT_EQ(onPlane.score, onPlane.depthScore * onPlane.edgeFactor);
+	EXPECT_GT(onObject.score, 5.0f * onPlane.score);
+	cfg.edgeShare = 0.0f; // off
+	EXPECT_FLOAT_EQ(scoreHypothesis(plane.o, plane.r, cfg).score, onPlane.depthScore);
+}
+
+TEST(HypothesisScore, AnOccluderBesideTheOutlineAndTheWindowsEdgeSayNothing)
+{
+	// Left of the block an occluder in front, right of it the wall behind,
+	// above and below the plane it lies on; the edges are looked at four
+	// pixels out, two at half resolution.
+	OutlineScene scene(800.0f);
+	for (int y = 0; y < 18; ++y) {
+		for (int x = 0; x < 6; ++x)
+			scene.o.at(x, y) = 600.0f;
+		for (int x = 12; x < 18; ++x)
+			scene.o.at(x, y) = 1200.0f;
+	}
+	const ScoreConfig cfg;
+	const HypothesisScore s = scoreHypothesis(scene.o, scene.r, cfg);
+	EXPECT_EQ(s.edgeDrops, 6);
+	EXPECT_EQ(s.edgeContinues, 12);
+	// The top and bottom rows' outward pixels four rows out lie in the
+	// window; a window cut two rows above the block has none there.
+	const ImageView<float> cutO{scene.obs.data() + 4 * 18, 18, 14, 18};
+	const ImageView<float> cutR{scene.ren.data() + 4 * 18, 18, 14, 18};
+	const HypothesisScore cut = scoreHypothesis(cutO, cutR, cfg);
+	EXPECT_EQ(cut.edgeDrops, 6);
+	EXPECT_EQ(cut.edgeContinues, 6); // the bottom row only
+	EXPECT_EQ(scoreHypothesis(cutO, cutR, cfg, 2).edgeContinues, 12); // two rows out at half resolution
 }
 
 TEST(HypothesisScore, OutliersOnTheOutlineCountOnlyWithoutTheSkip)
