@@ -84,7 +84,7 @@ TrackRefinement TrackRefiner::refine(ImageView<const float> depth, const CameraI
 	const ImageView<float> observed(observed_.data(), vk.width, vk.height, vk.width);
 	const ImageView<float> render(render_.data(), vk.width, vk.height, vk.width);
 	const OpenSides open = openSidesOf(box.x, box.y, box.w, box.h, depth.width, depth.height);
-	const ScoreWindow scoreWindow{observed, vk, open, &config.score};
+	const ScoreWindow scoreWindow{observed, vk, open, &config.score, crop.downsample};
 	const Eigen::Matrix3d Rv = crop.rotation;
 	const Pose start{Rv.transpose() * predicted.R, Rv.transpose() * predicted.t};
 
