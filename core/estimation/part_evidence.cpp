@@ -17,10 +17,17 @@ constexpr int kBeyondNear = 3, kBeyondFar = 4, kMaxWalk = 16;
 
 // Whether the surface the sensor sees at (x, y), at depth o, goes on past
 // both poses' outlines: of the observed pixels found there that neither
-// pose draws, more lie at o's depth than away from it (a table behind the
-// object, an occluder). A part drawn there explains a surface that is
-// there anyway. A part the sensor really sees ends at its outline, where
-// the depth jumps to the background's.
+// pose draws, more are reached from (x, y) along the same surface than
+// across a step (a table behind the object, an occluder). The surface is
+// the same where the pixel lies within toleranceMm of o, or where the
+// depth on the way there never steps by more than toleranceMm from one
+// observed pixel to the next: a table or an occluder's face seen at a
+// slant drifts away from o by a few mm a pixel, and would otherwise read
+// as an edge. A part drawn there explains a surface that is there anyway.
+// A part the sensor really sees ends at its outline, where the depth
+// steps to the background's (a blurred or mixed edge pixel halves the
+// step, a part in front of its background by more than twice the
+// tolerance still shows one).
 bool surfaceGoesOn(ImageView<const float> observed, ImageView<const float> renderA,
 		   ImageView<const float> renderB, int x, int y, float o, float toleranceMm)
 {
@@ -37,14 +44,22 @@ bool surfaceGoesOn(ImageView<const float> observed, ImageView<const float> rende
 				++outline;
 			if (outline > kMaxWalk)
 				continue;
-			for (int k = outline + kBeyondNear; k <= outline + kBeyondFar; ++k) {
+			// The depth followed pixel by pixel from (x, y): whether it
+			// stepped on the way (missing depth is passed over).
+			float last = o;
+			bool stepped = false;
+			for (int k = 1; k <= outline + kBeyondFar; ++k) {
 				const int u = x + dx * k, v = y + dy * k;
-				if (!inside(u, v) || drawn(u, v))
-					continue;
+				if (!inside(u, v))
+					break;
 				const float n = observed.at(u, v);
 				if (!(n > 0))
 					continue;
-				if (std::abs(n - o) <= toleranceMm)
+				stepped = stepped || std::abs(n - last) > toleranceMm;
+				last = n;
+				if (k < outline + kBeyondNear || drawn(u, v))
+					continue;
+				if (!stepped || std::abs(n - o) <= toleranceMm)
 					++same;
 				else
 					++other;

@@ -15,7 +15,8 @@
 // behind its render). A pixel observed in front of both (an occluder) or
 // not observed is no evidence either way. Nor is a part drawn where the
 // other pose draws nothing, explaining a surface that goes on past both
-// outlines at the part's depth (a table just behind the cup, an occluder):
+// outlines from the part's depth without a step (a table just behind the
+// cup, seen square or at a slant, an occluder):
 // a handle turned onto such a surface would otherwise win a comparison
 // that the depth cannot settle. That check follows the surface past the
 // outlines from each such pixel, so it is asked for (PoseDifference::kPart)

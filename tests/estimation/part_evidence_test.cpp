@@ -2,7 +2,7 @@
 // Two poses compared where their renders differ: a part only one draws is
 // evidence for it where the depth shows the part, and against it where the
 // depth lies behind; an occluder in front of both, or no depth, is none,
-// and so is a surface that goes on beyond the part at its depth.
+// and so is a surface that goes on beyond the part from its depth.
 
 #include <vector>
 
@@ -81,6 +81,40 @@ TEST(PartEvidence, APartLyingOnASurfaceThatGoesOnIsNoEvidenceForIt)
 	const PartEvidence whole = s.compare(PoseDifference::kSilhouette);
 	EXPECT_EQ(whole.forA, 2 * 3 * kHandleRows);
 	EXPECT_EQ(whole.forB, 0);
+}
+
+// The scene left of A's handle slants: at the handle's depth + offset
+// beside it, 4 mm farther each pixel to the left.
+void slantLeftOfHandle(Images &s, float offset)
+{
+	for (int y = kHandleTop - 5; y < kHandleBottom + 5; ++y)
+		for (int x = 0; x < 12; ++x)
+			s.observed[static_cast<size_t>(y * kW + x)] = 592.0f + offset + 4.0f * static_cast<float>(12 - x);
+}
+
+TEST(PartEvidence, APartLyingOnASlantedSurfaceIsNoEvidenceForIt)
+{
+	// A table seen at a slant, going on from under A's handle: 3 and 4
+	// pixels past the outline it lies 16-24 mm from the handle's depth,
+	// but it never steps on the way there.
+	Images s = cupScene();
+	slantLeftOfHandle(s, 0.0f);
+	Images::fill(s.observed, 12, 15, 592.0f, kHandleTop - 5, kHandleTop);
+	Images::fill(s.observed, 12, 15, 592.0f, kHandleBottom, kHandleBottom + 5);
+	const PartEvidence e = s.compare();
+	EXPECT_EQ(e.forA, 3 * kHandleRows); // B's handle seen through, nothing for A's
+	EXPECT_EQ(e.forB, 0);
+	EXPECT_EQ(e.informative, 3 * kHandleRows);
+}
+
+TEST(PartEvidence, APartInFrontOfASlantedSurfaceStillCounts)
+{
+	// The same slant 30 mm behind the handle: the depth steps at its outline.
+	Images s = cupScene();
+	slantLeftOfHandle(s, 30.0f);
+	const PartEvidence e = s.compare();
+	EXPECT_EQ(e.forA, 2 * 3 * kHandleRows);
+	EXPECT_EQ(e.forB, 0);
 }
 
 TEST(PartEvidence, APartWhoseEdgeTheSensorBlursStillCounts)
