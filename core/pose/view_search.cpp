@@ -523,8 +523,14 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 	// rotationStepDeg > 0, small turns about the camera axes through the
 	// model origin (the template grid is ~10 deg coarse: the truth's
 	// nearest template can score below a wrong rotation's); depth
-	// re-aligned at every step. The view's visible points are kept: a
-	// turn of a few degrees hardly changes which points are visible.
+	// re-aligned at every step. A trial turn is scored on the points of
+	// the view the climb stands on (a turn of a few degrees hardly changes
+	// which points are visible); once the turns have tilted the pose
+	// nearer another view, the climb stands on that one, with its points
+	// and the pose's honest score on them. Without that the climb drifts
+	// tens of degrees scoring points the pose hides (behind the model), and
+	// finds the poses that lay those on whatever they fit: an occluder, the
+	// wall.
 	auto climbSideways = [&](ViewProposal &p, RotatedView &r, EvalScratch &s) {
 		rotateView(r, p.view, 1, s);
 		const TurnedView base = turnedView(&r.points, r.m, p.turn);
@@ -532,27 +538,46 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 		// With turns: the points in camera axes (turned in-plane too),
 		// the current one in `cur`, a trial in `trial`.
 		ViewPoints cur, trial;
+		int curN = r.m;
 		if (turning)
 			for (int i = 0; i < r.m; ++i) {
 				const Eigen::Vector3f a = r.points.at(i);
 				cur.set(i, {base.c * a.x() - base.s * a.y(), base.s * a.x() + base.c * a.y(), a.z()});
 			}
 		Eigen::Matrix3f turned = Eigen::Matrix3f::Identity();
-		const TurnedView curView = turning ? TurnedView{&cur, r.m, 1.0f, 0.0f} : base;
-		const TurnedView trialView{&trial, r.m, 1.0f, 0.0f};
 		Eigen::Vector3f t = p.pose.t.cast<float>();
 		float best = p.score;
+		// After a turn: the view nearest the turned pose, its points put in
+		// camera axes and the pose scored on them, when it is another.
+		auto standOnNearestView = [&]() {
+			Pose at;
+			at.R = turned.cast<double>() * p.pose.R;
+			at.t = t.cast<double>();
+			const int v = nearestView(templates, at);
+			if (v < 0 || v == p.view)
+				return;
+			const std::span<const Eigen::Vector3f> pts = templates.view(v);
+			curN = std::min(distinctPoints(pts), n);
+			const Eigen::Matrix3f R = at.R.cast<float>();
+			for (int i = 0; i < curN; ++i)
+				cur.set(i, R * pts[static_cast<size_t>(i)]);
+			p.view = v;
+			const TurnedView moved{&cur, curN, 1.0f, 0.0f};
+			best = scorer.score(scorer.aligned(moved, t, s.res.data()), curN);
+		};
 		const float lateral = config.lateralStepMm, angle = config.rotationStepDeg * static_cast<float>(M_PI / 180.0);
 		for (int level = 0; level < 3; ++level) {
 			const float step = lateral * std::ldexp(1.0f, -level);
 			const float turn = angle * std::ldexp(1.0f, -level);
 			for (int pass = 0; pass < 3; ++pass) {
+				const TurnedView here = turning ? TurnedView{&cur, curN, 1.0f, 0.0f} : base;
+				const TurnedView trialView{&trial, curN, 1.0f, 0.0f};
 				Eigen::Vector3f bestT = t;
 				int bestMove = -1;
 				for (int d = 0; d < 4 && step > 0; ++d) {
 					Eigen::Vector3f c = t;
 					c[d / 2] += (d % 2 ? step : -step);
-					const float sc = scorer.score(scorer.aligned(curView, c, s.res.data()), curView.n);
+					const float sc = scorer.score(scorer.aligned(here, c, s.res.data()), here.n);
 					if (sc > best) {
 						best = sc;
 						bestT = c;
@@ -564,7 +589,7 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 					const Eigen::Matrix3f D =
 						Eigen::AngleAxisf(d % 2 ? turn : -turn, Eigen::Vector3f::Unit(d / 2))
 							.toRotationMatrix();
-					for (int i = 0; i < r.m; ++i)
+					for (int i = 0; i < curN; ++i)
 						trial.set(i, D * cur.at(i));
 					Eigen::Vector3f c = t;
 					const float sc = scorer.score(scorer.aligned(trialView, c, s.res.data()), trialView.n);
@@ -579,9 +604,10 @@ size_t searchViews(const ViewTemplates &templates, const ViewSearchConfig &confi
 					break;
 				t = bestT;
 				if (bestMove >= 4) {
-					for (int i = 0; i < r.m; ++i)
+					for (int i = 0; i < curN; ++i)
 						cur.set(i, bestD * cur.at(i));
 					turned = bestD * turned;
+					standOnNearestView();
 				}
 			}
 		}

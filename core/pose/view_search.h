@@ -209,9 +209,9 @@ struct BoxAxes {
 
 struct ViewProposal {
 	Pose pose;       // in the camera of `observed`
-	float score = 0; // sparse score in [0, 1]
-	int view = -1;
-	int turn = -1;
+	float score = 0; // sparse score in [0, 1], on view's points
+	int view = -1;   // the template whose points scored it: nearest the pose once the climb turned it
+	int turn = -1;   // the in-plane turn it started from
 };
 
 // A rotation the coarse pass kept.

@@ -162,6 +162,27 @@ protected:
 		return c;
 	}
 
+	// The window of an amodal box round the object in `full` (its extent,
+	// 5 % wider on each side, centred on the principal point as the
+	// virtual crop's), with its left half behind an occluder at occluderMm.
+	ClippedWindow halfHiddenBoxWindow(const std::vector<float> &full, float occluderMm) const
+	{
+		const Extent e = extent(full);
+		const int halfW = (e.u1 - e.u0) * 21 / 40 + 1, halfH = (e.v1 - e.v0) * 21 / 40 + 1;
+		const int x0 = static_cast<int>(K_.cx) - halfW, y0 = static_cast<int>(K_.cy) - halfH;
+		const int w = 2 * halfW + 1, h = 2 * halfH + 1;
+		ClippedWindow c{std::vector<float>(static_cast<size_t>(w) * h), K_, {}};
+		for (int y = 0; y < h; ++y)
+			for (int x = 0; x < w; ++x)
+				c.depth[static_cast<size_t>(y) * w + x] =
+					x < w / 2 ? occluderMm : full[static_cast<size_t>(y + y0) * K_.width + x + x0];
+		c.K.cx -= x0;
+		c.K.cy -= y0;
+		c.K.width = w;
+		c.K.height = h;
+		return c;
+	}
+
 	static Mesh *mesh_;
 	static double diameter_;
 	static std::vector<Eigen::Vector3f> *points_;
@@ -492,24 +513,10 @@ TEST_F(ViewSearchTest, PlacedByTheBoxSizeARotationIsFoundBehindAnOccluder)
 	for (int i = 0; i < trials; ++i) {
 		std::vector<float> depth;
 		const Pose truth = centredPose(rng, depth);
-		// The window of the box: the object's extent, 5 % wider on each
-		// side, centred on the principal point as the virtual crop's.
-		const Extent e = extent(depth);
-		const int halfW = (e.u1 - e.u0) * 21 / 40 + 1, halfH = (e.v1 - e.v0) * 21 / 40 + 1;
-		const int x0 = static_cast<int>(K_.cx) - halfW, y0 = static_cast<int>(K_.cy) - halfH;
-		const int w = 2 * halfW + 1, h = 2 * halfH + 1;
-		std::vector<float> window(static_cast<size_t>(w) * h);
 		const float occluderMm = static_cast<float>(truth.t.z() - 150);
-		for (int y = 0; y < h; ++y)
-			for (int x = 0; x < w; ++x)
-				window[static_cast<size_t>(y) * w + x] =
-					x < w / 2 ? occluderMm : depth[static_cast<size_t>(y + y0) * K_.width + x + x0];
-		CameraIntrinsics K = K_;
-		K.cx -= x0;
-		K.cy -= y0;
-		K.width = w;
-		K.height = h;
-		const ImageView<const float> view(window.data(), w, h, w);
+		const ClippedWindow window = halfHiddenBoxWindow(depth, occluderMm);
+		const ImageView<const float> view = window.view();
+		const CameraIntrinsics &K = window.K;
 		fromOccluder += finds(cfg, view, K, Eigen::Vector3d::Zero(), truth, 20, {}, occluderMm);
 		ViewSearchConfig sized = cfg;
 		sized.placeBySize = true;
@@ -612,12 +619,13 @@ TEST_F(ViewSearchTest, LateralClimbUndoesABoxCentreOffByMillimetres)
 	EXPECT_GT(found, foundPlain + 2);
 }
 
-// A box further off centre: a fifth of the object's extent on either axis.
-// Its centre puts the true rotation tens of millimetres off, where wrong
-// rotations outscore it before the climb; the placements shifted to either
-// side of the centre (centreShiftShare) find it more often. (On these clean
-// renders a tenth is mostly undone by the climb alone, 11 of 12 against 12;
-// on the noisy, occluded benchmarks it is not, BENCHMARKS.md.)
+// A box further off centre: a fifth of the object's extent on either axis,
+// with the object's left third behind an occluder. The box's centre puts
+// the true rotation tens of millimetres off, where wrong rotations outscore
+// it before the climb; the placements shifted to either side of the centre
+// (centreShiftShare) find it more often. (On clean renders a tenth is
+// mostly undone by the climb alone, 11 of 12 against 12; on the noisy,
+// occluded benchmarks it is not, BENCHMARKS.md.)
 TEST_F(ViewSearchTest, ShiftedPlacementsFindTheObjectOffTheBoxCentre)
 {
 	std::mt19937_64 rng(37);
@@ -636,6 +644,11 @@ TEST_F(ViewSearchTest, ShiftedPlacementsFindTheObjectOffTheBoxCentre)
 		const double dx = 0.2 * (u1 - u0) * truth.t.z() / K_.fx, dy = 0.2 * (v1 - v0) * truth.t.z() / K_.fy;
 		truth.t += Eigen::Vector3d(i % 2 ? dx : -dx, i % 3 ? dy : -dy, 0);
 		depth = render(truth);
+		const Extent e = extent(depth);
+		const float occluderMm = static_cast<float>(truth.t.z() - 120);
+		for (int y = 0; y < K_.height; ++y)
+			for (int x = 0; x < e.u0 + (e.u1 - e.u0) / 3; ++x)
+				depth[static_cast<size_t>(y) * K_.width + x] = occluderMm;
 		ImageView<const float> view(depth.data(), K_.width, K_.height, K_.width);
 		const Eigen::Vector3d voted(0, 0, truth.t.z() + 10);
 		found += finds(shifted, view, K_, voted, truth, 8);
@@ -645,11 +658,11 @@ TEST_F(ViewSearchTest, ShiftedPlacementsFindTheObjectOffTheBoxCentre)
 	RecordProperty("found", found);
 	RecordProperty("found_centred", foundCentred);
 	RecordProperty("found_best_shifted", foundBest);
-	// 8 of 12 measured, 7 with the shifts on the best rotations only, 4
+	// 4 of 12 measured, 4 with the shifts on the best rotations only, 1
 	// centred only.
-	EXPECT_GE(found, trials / 2);
+	EXPECT_GE(found, trials / 3);
 	EXPECT_GT(found, foundCentred + 2);
-	EXPECT_GE(foundBest, found - 2);
+	EXPECT_GE(foundBest, found - 1);
 	EXPECT_GT(foundBest, foundCentred + 1);
 }
 
@@ -726,6 +739,52 @@ TEST_F(ViewSearchTest, TurningClimbBringsRotationsCloserThanTheGrid)
 	RecordProperty("mean_deg_turning", std::to_string(errTurning / both));
 	RecordProperty("mean_deg_sideways", std::to_string(errSideways / both));
 	EXPECT_LT(errTurning, 0.8 * errSideways); // measured 5.7 against 8.7 deg
+}
+
+// A climb that turns the pose towards another view scores it on that view's
+// points: otherwise it drifts tens of degrees scoring points the pose hides,
+// and finds the poses that lay those on whatever they fit (an occluder, the
+// wall). Half-hidden objects, searched at a voted centre and placed by the
+// box's size in the box's window: each proposal's view direction is as near
+// its own view as the nearest view's (up to its offset off the optical
+// axis, which the search's placements make).
+TEST_F(ViewSearchTest, ClimbedProposalsAreScoredOnTheViewTheyShow)
+{
+	std::mt19937_64 rng(53);
+	const ViewTemplates views = templates();
+	auto direction = [&](int v) { return fibonacciDirection(v, views.viewpoints); };
+	double worst = 0;
+	int proposals = 0;
+	for (int i = 0; i < 6; ++i) {
+		std::vector<float> depth;
+		const Pose truth = centredPose(rng, depth);
+		const float occluderMm = static_cast<float>(truth.t.z() - 120);
+		const ClippedWindow window = halfHiddenBoxWindow(depth, occluderMm);
+		const ImageView<const float> view = window.view();
+		const CameraIntrinsics &K = window.K;
+		const BoxAxes box{true, true, {}};
+		for (const bool bySize : {false, true}) {
+			ViewSearchConfig cfg;
+			cfg.placeBySize = bySize;
+			const Eigen::Vector3d voted(0, 0, truth.t.z() + 10);
+			ViewProposal top[6];
+			const size_t n = searchViews(views, cfg, view, K, bySize ? Eigen::Vector3d::Zero() : voted, top,
+						     box, bySize ? occluderMm : 0.0f);
+			ASSERT_GT(n, 0u) << i << " " << bySize;
+			for (size_t j = 0; j < n; ++j) {
+				const Pose &p = top[j].pose;
+				const Eigen::Vector3d seen = -(p.R.transpose() * p.t.normalized());
+				auto off = [&](int v) { return std::acos(std::clamp(seen.dot(direction(v)), -1.0, 1.0)); };
+				const double aside = std::atan2(p.t.head<2>().norm(), p.t.z());
+				const double past = off(top[j].view) - off(nearestView(views, p));
+				worst = std::max(worst, past * 180.0 / M_PI);
+				EXPECT_LE(past, aside + 1e-6) << i << " " << bySize << " " << j;
+				++proposals;
+			}
+		}
+	}
+	RecordProperty("proposals", proposals);
+	RecordProperty("worst_deg_past_nearest", std::to_string(worst));
 }
 
 // A template's own rotation, on its view's ray or off it by the lateral
