@@ -145,27 +145,15 @@ float boxAgreement(const Mesh &mesh, const Pose &pose, const CameraIntrinsics &w
 	const std::optional<ProjectedExtent> extent = projectedExtent(mesh, pose, window);
 	if (!extent)
 		return 0.0f; // behind the camera: not a pose for this box
-	const float u0 = extent->u0, v0 = extent->v0, u1 = extent->u1, v1 = extent->v1;
-	const float area = std::max(1.0f, (u1 - u0) * (v1 - v0));
-	const float iw = std::max(0.0f, std::min(u1, static_cast<float>(window.width)) - std::max(u0, 0.0f));
-	const float ih = std::max(0.0f, std::min(v1, static_cast<float>(window.height)) - std::max(v0, 0.0f));
-	// A detector's box is itself off by some percent: overhang within
-	// boxMargin of the box size costs nothing.
-	const float mx = config.boxMargin * window.width, my = config.boxMargin * window.height;
-	const float big = std::numeric_limits<float>::max();
-	const float left = open.left ? -big : -mx, right = open.right ? big : window.width + mx;
-	const float top = open.top ? -big : -my, bottom = open.bottom ? big : window.height + my;
-	const float ow = std::max(0.0f, std::min(u1, right) - std::max(u0, left));
-	const float oh = std::max(0.0f, std::min(v1, bottom) - std::max(v0, top));
-	const float inside = std::min(1.0f, ow * oh / area);
-	const float fill = iw * ih / (static_cast<float>(window.width) * window.height);
-	const float fillTerm = std::min(1.0f, fill / std::max(1e-3f, config.boxMinFill));
+	const float agreement =
+		boxExtentAgreement(extent->u0, extent->v0, extent->u1, extent->v1, static_cast<float>(window.width),
+				   static_cast<float>(window.height), config.boxMargin, config.boxMinFill, open);
 	// In double, then rounded to float: pow's last bit may differ between
 	// libm variants (amd64 picks an FMA one at run time), which the rounding
 	// hides, and the poses must be the same bits on every target
 	// (tests/estimation/golden_pose_test.cpp).
 	return static_cast<float>(
-		std::pow(static_cast<double>(inside * fillTerm), static_cast<double>(config.boxWeight)));
+		std::pow(static_cast<double>(agreement), static_cast<double>(config.boxWeight)));
 }
 
 } // namespace ihf

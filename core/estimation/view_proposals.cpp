@@ -22,6 +22,9 @@ ViewSearchConfig viewScoring(const EstimatorConfig &config)
 	vc.outlierWeight = config.score.outlierWeight;
 	vc.occludedWeight = config.score.occludedWeight;
 	vc.residualWeight = config.score.residualWeight;
+	vc.boxWeight = config.score.boxWeight;
+	vc.boxMinFill = config.score.boxMinFill;
+	vc.boxMargin = config.score.boxMargin;
 	return vc;
 }
 

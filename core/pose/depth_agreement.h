@@ -10,6 +10,10 @@
 // One definition so that the search ranks rotations by the same rule that
 // later decides between them.
 
+#include <algorithm>
+
+#include "core/geometry/open_sides.h"
+
 namespace ihf {
 
 // An inlier's weight: 1 - residualWeight (e / inlierMm)^2.
@@ -27,6 +31,27 @@ inline float depthAgreement(float fit, int inliers, int outliers, int occluded, 
 	const float denom = static_cast<float>(inliers) + outlierWeight * static_cast<float>(outliers) +
 			    occludedWeight * static_cast<float>(occluded);
 	return denom > 0 ? fit / denom : 0.0f;
+}
+
+// The agreement with a box of width x height pixels of a projected extent
+// [u0, u1] x [v0, v1] in its pixels, before its power (ScoreConfig::
+// boxWeight): the share of the extent inside the box (overhang within
+// margin of the box size free, any past an open side) times the box's
+// covered share over minFill, at most 1.
+inline float boxExtentAgreement(float u0, float v0, float u1, float v1, float width, float height, float margin,
+				float minFill, OpenSides open)
+{
+	const float area = std::max(1.0f, (u1 - u0) * (v1 - v0));
+	const float iw = std::max(0.0f, std::min(u1, width) - std::max(u0, 0.0f));
+	const float ih = std::max(0.0f, std::min(v1, height) - std::max(v0, 0.0f));
+	const float mx = margin * width, my = margin * height, big = 1e30f;
+	const float left = open.left ? -big : -mx, right = open.right ? big : width + mx;
+	const float top = open.top ? -big : -my, bottom = open.bottom ? big : height + my;
+	const float ow = std::max(0.0f, std::min(u1, right) - std::max(u0, left));
+	const float oh = std::max(0.0f, std::min(v1, bottom) - std::max(v0, top));
+	const float inside = std::min(1.0f, ow * oh / area);
+	const float fill = iw * ih / (width * height);
+	return inside * std::min(1.0f, fill / std::max(1e-3f, minFill));
 }
 
 } // namespace ihf

@@ -43,6 +43,8 @@ struct TurnedView {
 struct Tally {
 	int in = 0, out = 0, occ = 0, outside = 0, residuals = 0;
 	float fit = 0; // inliers weighted by residual (the score's rule)
+	// The points' projected extent (pixels of the window).
+	float u0 = 0, u1 = 0, w0 = 0, w1 = 0;
 };
 
 class SparseScorer
@@ -64,7 +66,7 @@ public:
 		std::array<int, kMaxViewPoints> pixel;
 		std::array<float, kMaxViewPoints> depth;
 		Tally k;
-		k.outside = project(v, t, pixel.data(), depth.data());
+		k.outside = project(v, t, pixel.data(), depth.data(), k);
 		// Branch-free: whether a point is compared, kept as a residual or
 		// an inlier is random from point to point, and mispredicted
 		// branches cost more than the writes each point makes anyway.
@@ -97,7 +99,7 @@ public:
 	// outside: behind the camera, or past a side of the image that the
 	// frame did not clip (past a clipped side the point is unseen: the
 	// object may go on there, a border box).
-	int project(const TurnedView &v, const Eigen::Vector3f &t, int *pixel, float *depth) const
+	int project(const TurnedView &v, const Eigen::Vector3f &t, int *pixel, float *depth, Tally &extent) const
 	{
 		// Everything the loop reads into locals: the stores through
 		// pixel and depth could otherwise alias them, which keeps the loop
@@ -110,6 +112,7 @@ public:
 		const float fx = fx_, fy = fy_, cx = cx_, cy = cy_;
 		const float *ax = v.a->x.data(), *ay = v.a->y.data(), *az = v.a->z.data();
 		int outside = 0;
+		float u0 = 1e30f, u1 = -1e30f, w0 = 1e30f, w1 = -1e30f;
 		for (int i = 0; i < n; ++i) {
 			const float z = az[i] + tz;
 			const float x = c * ax[i] - s * ay[i] + tx;
@@ -117,6 +120,10 @@ public:
 			// floor(f) is below 0 or at least the size exactly when f is.
 			const float fu = fx * x / z + cx + 0.5f;
 			const float fw = fy * y / z + cy + 0.5f;
+			u0 = std::min(u0, fu);
+			u1 = std::max(u1, fu);
+			w0 = std::min(w0, fw);
+			w1 = std::max(w1, fw);
 			// Bitwise, not short-circuit: no branch in the loop.
 			const int front = z > 1.0f;
 			const int lo = fu < 0, hi = fu >= width, up = fw < 0, down = fw >= height;
@@ -127,6 +134,7 @@ public:
 			pixel[i] = inside ? w * stride + u : -1;
 			depth[i] = z;
 		}
+		extent.u0 = u0, extent.u1 = u1, extent.w0 = w0, extent.w1 = w1;
 		return outside;
 	}
 
@@ -247,6 +255,7 @@ public:
 		const int compared = k.in + k.out + k.occ;
 		Tally moved;
 		moved.outside = k.outside;
+		moved.u0 = k.u0, moved.u1 = k.u1, moved.w0 = k.w0, moved.w1 = k.w1;
 		for (int i = 0; i < compared; ++i)
 			classifyIf(moved, all[i] - shift, 1);
 		return moved;
@@ -259,7 +268,25 @@ public:
 			return 0.0f;
 		const float depth =
 			depthAgreement(k.fit, k.in, k.out, k.occ, cfg_.outlierWeight, cfg_.occludedWeight);
-		return depth * static_cast<float>(n - k.outside) / static_cast<float>(n);
+		return depth * static_cast<float>(n - k.outside) / static_cast<float>(n) * boxAgreement(k);
+	}
+
+	// The full score's agreement with the box (boxAgreement() in
+	// hypothesis_score.h) on the points' extent.
+	float boxAgreement(const Tally &k) const
+	{
+		if (!(cfg_.boxWeight > 0))
+			return 1.0f;
+		if (!(k.u1 >= k.u0) || !(k.w1 >= k.w0))
+			return 0.0f;
+		const float agreement = boxExtentAgreement(k.u0, k.w0, k.u1, k.w1, static_cast<float>(obs_.width),
+							   static_cast<float>(obs_.height), cfg_.boxMargin,
+							   cfg_.boxMinFill, box_.open);
+		if (agreement >= 1.0f)
+			return 1.0f;
+		// In double, then rounded, as the full score: the same bits on
+		// every target's libm (tests/estimation/golden_pose_test.cpp).
+		return static_cast<float>(std::pow(static_cast<double>(agreement), static_cast<double>(cfg_.boxWeight)));
 	}
 
 private:

@@ -7,11 +7,12 @@
 // of the truth) while its translation votes are good, so every rotation of
 // the template set (viewpoints x in-plane turns) is verified at the voted
 // translation with the score's own rule (inliers against the scene seen
-// through the model, weighted, and lightly against occlusion), evaluated on
-// the templates' points instead of a rendering. The translation's depth is
-// first moved to the median depth residual of the rotation's points, which
-// absorbs the offset between the voted centre and the visible surface. The
-// best distinct rotations are returned for the full score and the polish.
+// through the model, weighted, and lightly against occlusion; times the
+// agreement with the box), evaluated on the templates' points instead of a
+// rendering. The translation's depth is first moved to the median depth
+// residual of the rotation's points, which absorbs the offset between the
+// voted centre and the visible surface. The best distinct rotations are
+// returned for the full score and the polish.
 // No allocation: fixed-size stack scratch per task (kMaxViewPoints points),
 // coarse candidates in the caller's workspace or on the stack.
 
@@ -42,6 +43,11 @@ struct ViewSearchConfig {
 	float outlierWeight = 3.0f;
 	float occludedWeight = 0.2f;
 	float residualWeight = 0.0f; // the score's inlier weighting by residual
+	// The score's agreement with the box (ScoreConfig::boxWeight), on the
+	// extent of a rotation's points: (inside * fill')^boxWeight. 0: off.
+	float boxWeight = 0.0f;
+	float boxMinFill = 0.5f;
+	float boxMargin = 0.1f;
 	float distinctDeg = 20.0f; // proposals closer than this in rotation are one
 	// Each rotation is also tried at the translation that centres its
 	// projected points on the optical axis, which passes through the given

@@ -193,8 +193,11 @@ TEST_F(SymmetryTurns, ACoarseWindowComparesTheTurnsAtFullResolution)
 	coarse.windowPixels = 300;
 	EstimatorLimits coarseLimits;
 	coarseLimits.maxWindowPixels = coarse.windowPixels;
-	// Two views from above, where the handle's few coarse pixels mislead.
-	for (const auto &[azimuth, elevation] : {std::pair{120.0, 35.0}, std::pair{240.0, 25.0}}) {
+	// A view from above where the handle's few coarse pixels mislead (of
+	// 44 views at 30 deg steps of azimuth and 20-35 deg of elevation, the
+	// one where the coarse window alone turns the handle wrong and the
+	// full one does not).
+	for (const auto &[azimuth, elevation] : {std::pair{240.0, 20.0}}) {
 		const Pose gt = viewOfCup(azimuth, elevation);
 		DepthImageMm depth(640, 480, 0.0f);
 		const PixelBox box = scene(gt, depth);

@@ -10,6 +10,8 @@
 // millimetres, and its turns bring rotations closer than the template grid;
 // it is off without turns or templates.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <random>
 #include <string>
@@ -859,6 +861,56 @@ TEST_F(ViewSearchTest, SparsePoseScoreFindsTheDepthAndTellsTheTruthFromItsHalfTu
 	EXPECT_GE(lower, trials * 3 / 4);
 	Eigen::Vector3d aligned;
 	EXPECT_EQ(sparsePoseScore(t, -1, cfg, ImageView<const float>(), K_, Pose{}, BoxAxes{}, aligned), 0.0f);
+}
+
+// The sparse score agrees with the box as the full score does: the truth in
+// the window of a box drawn round it scores the same with the agreement on
+// (it fills the box), and in a window three times as wide and high (a box
+// round something else, the object a ninth of it) the agreement takes it
+// to (fill / boxMinFill)^boxWeight of that; off, the wide window changes
+// nothing.
+TEST_F(ViewSearchTest, SparseScoreAgreesWithTheBoxAsTheFullScoreDoes)
+{
+	std::mt19937_64 rng(19);
+	const ViewTemplates t = templates();
+	ViewSearchConfig off;
+	ViewSearchConfig on = off;
+	on.boxWeight = 1.5f;
+	for (int i = 0; i < 4; ++i) {
+		std::vector<float> depth;
+		const Pose truth = centredPose(rng, depth);
+		const Extent e = extent(depth);
+		// A window centred on the principal point, `scale` times the
+		// extent's half sizes (5 % more) on each side.
+		auto score = [&](const ViewSearchConfig &cfg, int scale) {
+			const int halfW = scale * ((e.u1 - e.u0) * 21 / 40 + 1), halfH = scale * ((e.v1 - e.v0) * 21 / 40 + 1);
+			const int x0 = static_cast<int>(K_.cx) - halfW, y0 = static_cast<int>(K_.cy) - halfH;
+			const int w = 2 * halfW + 1, h = 2 * halfH + 1;
+			std::vector<float> window(static_cast<size_t>(w) * h, 1150.0f);
+			for (int y = 0; y < h; ++y)
+				for (int x = 0; x < w; ++x)
+					if (x + x0 >= 0 && x + x0 < K_.width && y + y0 >= 0 && y + y0 < K_.height)
+						window[static_cast<size_t>(y) * w + x] =
+							depth[static_cast<size_t>(y + y0) * K_.width + x + x0];
+			CameraIntrinsics K = K_;
+			K.cx -= x0;
+			K.cy -= y0;
+			K.width = w;
+			K.height = h;
+			Eigen::Vector3d aligned;
+			return sparsePoseScore(t, nearestView(t, truth), cfg, ImageView<const float>(window.data(), w, h, w), K,
+					       truth, BoxAxes{}, aligned);
+		};
+		const float tight = score(off, 1);
+		EXPECT_GT(tight, 0.8f) << i;
+		EXPECT_FLOAT_EQ(score(on, 1), tight) << i;
+		EXPECT_FLOAT_EQ(score(off, 3), tight) << i;
+		// The points' extent is a little inside the object's: a ninth of
+		// the window at most.
+		const float wide = score(on, 3);
+		EXPECT_LT(wide, tight * std::pow(1.0f / 9.0f / on.boxMinFill, on.boxWeight) * 1.01f) << i;
+		EXPECT_GT(wide, 0.0f) << i;
+	}
 }
 
 TEST_F(ViewSearchTest, OffWithoutTurnsOrTemplates)
