@@ -35,9 +35,10 @@ inline float depthAgreement(float fit, int inliers, int outliers, int occluded, 
 
 // The agreement with a box of width x height pixels of a projected extent
 // [u0, u1] x [v0, v1] in its pixels, before its power (ScoreConfig::
-// boxWeight): the share of the extent inside the box (overhang within
-// margin of the box size free, any past an open side) times the box's
-// covered share over minFill, at most 1.
+// boxWeight): the share of the extent inside the box times the box's
+// covered share over minFill, at most 1. A detector's box is itself off by
+// some percent: overhang within margin of the box size costs nothing, and
+// none past an open side (a side the frame clipped or an occluder hides).
 inline float boxExtentAgreement(float u0, float v0, float u1, float v1, float width, float height, float margin,
 				float minFill, OpenSides open)
 {

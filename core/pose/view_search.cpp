@@ -40,11 +40,15 @@ struct TurnedView {
 	float c, s;
 };
 
+// The extent of projected points, in pixels of the window.
+struct PixelExtent {
+	float u0 = 0, u1 = 0, w0 = 0, w1 = 0;
+};
+
 struct Tally {
 	int in = 0, out = 0, occ = 0, outside = 0, residuals = 0;
 	float fit = 0; // inliers weighted by residual (the score's rule)
-	// The points' projected extent (pixels of the window).
-	float u0 = 0, u1 = 0, w0 = 0, w1 = 0;
+	PixelExtent extent; // of the points, for the agreement with the box
 };
 
 class SparseScorer
@@ -66,7 +70,7 @@ public:
 		std::array<int, kMaxViewPoints> pixel;
 		std::array<float, kMaxViewPoints> depth;
 		Tally k;
-		k.outside = project(v, t, pixel.data(), depth.data(), k);
+		k.outside = project(v, t, pixel.data(), depth.data(), k.extent);
 		// Branch-free: whether a point is compared, kept as a residual or
 		// an inlier is random from point to point, and mispredicted
 		// branches cost more than the writes each point makes anyway.
@@ -95,11 +99,11 @@ public:
 	}
 
 	// Each point's pixel (offset into obs_, -1 when it falls outside the
-	// image) and depth at translation t; returns how many points count as
-	// outside: behind the camera, or past a side of the image that the
-	// frame did not clip (past a clipped side the point is unseen: the
-	// object may go on there, a border box).
-	int project(const TurnedView &v, const Eigen::Vector3f &t, int *pixel, float *depth, Tally &extent) const
+	// image) and depth at translation t, and the points' extent; returns
+	// how many points count as outside: behind the camera, or past a side
+	// of the image that the frame did not clip (past a clipped side the
+	// point is unseen: the object may go on there, a border box).
+	int project(const TurnedView &v, const Eigen::Vector3f &t, int *pixel, float *depth, PixelExtent &extent) const
 	{
 		// Everything the loop reads into locals: the stores through
 		// pixel and depth could otherwise alias them, which keeps the loop
@@ -134,7 +138,7 @@ public:
 			pixel[i] = inside ? w * stride + u : -1;
 			depth[i] = z;
 		}
-		extent.u0 = u0, extent.u1 = u1, extent.w0 = w0, extent.w1 = w1;
+		extent = {u0, u1, w0, w1};
 		return outside;
 	}
 
@@ -255,7 +259,7 @@ public:
 		const int compared = k.in + k.out + k.occ;
 		Tally moved;
 		moved.outside = k.outside;
-		moved.u0 = k.u0, moved.u1 = k.u1, moved.w0 = k.w0, moved.w1 = k.w1;
+		moved.extent = k.extent;
 		for (int i = 0; i < compared; ++i)
 			classifyIf(moved, all[i] - shift, 1);
 		return moved;
@@ -277,9 +281,10 @@ public:
 	{
 		if (!(cfg_.boxWeight > 0))
 			return 1.0f;
-		if (!(k.u1 >= k.u0) || !(k.w1 >= k.w0))
+		const PixelExtent &e = k.extent;
+		if (!(e.u1 >= e.u0) || !(e.w1 >= e.w0))
 			return 0.0f;
-		const float agreement = boxExtentAgreement(k.u0, k.w0, k.u1, k.w1, static_cast<float>(obs_.width),
+		const float agreement = boxExtentAgreement(e.u0, e.w0, e.u1, e.w1, static_cast<float>(obs_.width),
 							   static_cast<float>(obs_.height), cfg_.boxMargin,
 							   cfg_.boxMinFill, box_.open);
 		if (agreement >= 1.0f)

@@ -133,18 +133,19 @@ protected:
 		return near(top, searchViews(templates(), cfg, view, K, centre, top, box, anchor), truth, mm);
 	}
 
+	// A window of the frame, as a virtual crop's: its depth and intrinsics.
+	struct Window {
+		std::vector<float> depth;
+		CameraIntrinsics K;
+		Eigen::Vector3d voted; // clippedWindow()'s only
+		ImageView<const float> view() const { return {depth.data(), K.width, K.height, K.width}; }
+	};
 	// The window of a box the frame clipped: the object's extent (in `full`)
 	// with its left third cut off by the frame and `margin` of its width
 	// past its right side; rows centred on the principal point as the
 	// virtual crop's, 5 % past the extent. `voted`: the window's centre ray
 	// at the truth's depth + 20 mm.
-	struct ClippedWindow {
-		std::vector<float> depth;
-		CameraIntrinsics K;
-		Eigen::Vector3d voted;
-		ImageView<const float> view() const { return {depth.data(), K.width, K.height, K.width}; }
-	};
-	ClippedWindow clippedWindow(const std::vector<float> &full, const Pose &truth, double margin) const
+	Window clippedWindow(const std::vector<float> &full, const Pose &truth, double margin) const
 	{
 		const auto [u0, u1, v0, v1] = extent(full);
 		const int mx = static_cast<int>(margin * (u1 - u0)), my = (v1 - v0) / 20;
@@ -152,7 +153,7 @@ protected:
 		const int half = std::max(static_cast<int>(K_.cy) - v0, v1 - static_cast<int>(K_.cy)) + my;
 		const int y0 = static_cast<int>(K_.cy) - half, y1 = static_cast<int>(K_.cy) + half;
 		const int w = x1 - x0 + 1, h = y1 - y0 + 1;
-		ClippedWindow c{std::vector<float>(static_cast<size_t>(w) * h), K_, {}};
+		Window c{std::vector<float>(static_cast<size_t>(w) * h), K_, {}};
 		for (int y = 0; y < h; ++y)
 			for (int x = 0; x < w; ++x)
 				c.depth[static_cast<size_t>(y) * w + x] = full[static_cast<size_t>(y + y0) * K_.width + x + x0];
@@ -164,20 +165,26 @@ protected:
 		return c;
 	}
 
-	// The window of an amodal box round the object in `full` (its extent,
-	// 5 % wider on each side, centred on the principal point as the
-	// virtual crop's), with its left half behind an occluder at occluderMm.
-	ClippedWindow halfHiddenBoxWindow(const std::vector<float> &full, float occluderMm) const
+	// The window of an amodal box round the object in `full`: its extent,
+	// 5 % wider on each side, `scale` times that, centred on the principal
+	// point as the virtual crop's. With occluderMm > 0 the window's left
+	// half lies behind an occluder at that depth; pixels past the frame are
+	// the wall (1150 mm, as render()'s).
+	Window boxWindow(const std::vector<float> &full, int scale = 1, float occluderMm = 0.0f) const
 	{
 		const Extent e = extent(full);
-		const int halfW = (e.u1 - e.u0) * 21 / 40 + 1, halfH = (e.v1 - e.v0) * 21 / 40 + 1;
+		const int halfW = scale * ((e.u1 - e.u0) * 21 / 40 + 1), halfH = scale * ((e.v1 - e.v0) * 21 / 40 + 1);
 		const int x0 = static_cast<int>(K_.cx) - halfW, y0 = static_cast<int>(K_.cy) - halfH;
 		const int w = 2 * halfW + 1, h = 2 * halfH + 1;
-		ClippedWindow c{std::vector<float>(static_cast<size_t>(w) * h), K_, {}};
+		Window c{std::vector<float>(static_cast<size_t>(w) * h, 1150.0f), K_, {}};
 		for (int y = 0; y < h; ++y)
-			for (int x = 0; x < w; ++x)
-				c.depth[static_cast<size_t>(y) * w + x] =
-					x < w / 2 ? occluderMm : full[static_cast<size_t>(y + y0) * K_.width + x + x0];
+			for (int x = 0; x < w; ++x) {
+				float &d = c.depth[static_cast<size_t>(y) * w + x];
+				if (occluderMm > 0 && x < w / 2)
+					d = occluderMm;
+				else if (x + x0 >= 0 && x + x0 < K_.width && y + y0 >= 0 && y + y0 < K_.height)
+					d = full[static_cast<size_t>(y + y0) * K_.width + x + x0];
+			}
 		c.K.cx -= x0;
 		c.K.cy -= y0;
 		c.K.width = w;
@@ -327,7 +334,7 @@ TEST_F(ViewSearchTest, ABoxClippedByTheFrameFindsTheObjectPastItsEdge)
 		std::vector<float> full;
 		const Pose truth = centredPose(rng, full);
 		// The box: the extent 10 % larger, its left third cut off.
-		const ClippedWindow c = clippedWindow(full, truth, 0.05);
+		const Window c = clippedWindow(full, truth, 0.05);
 		const ImageView<const float> view = c.view();
 		const CameraIntrinsics &K = c.K;
 		const Eigen::Vector3d &voted = c.voted;
@@ -362,7 +369,7 @@ TEST_F(ViewSearchTest, AClippedBoxWithAMarginIsSearchedInsideItsEdgeToo)
 	for (int i = 0; i < trials; ++i) {
 		std::vector<float> full;
 		const Pose truth = centredPose(rng, full);
-		const ClippedWindow c = clippedWindow(full, truth, 0.25);
+		const Window c = clippedWindow(full, truth, 0.25);
 		const BoxAxes clipped{false, true, OpenSides{.left = true}};
 		found += finds(inside, c.view(), c.K, c.voted, truth, 15, clipped);
 		foundAtEdge += finds(edge, c.view(), c.K, c.voted, truth, 15, clipped);
@@ -516,7 +523,7 @@ TEST_F(ViewSearchTest, PlacedByTheBoxSizeARotationIsFoundBehindAnOccluder)
 		std::vector<float> depth;
 		const Pose truth = centredPose(rng, depth);
 		const float occluderMm = static_cast<float>(truth.t.z() - 150);
-		const ClippedWindow window = halfHiddenBoxWindow(depth, occluderMm);
+		const Window window = boxWindow(depth, 1, occluderMm);
 		const ImageView<const float> view = window.view();
 		const CameraIntrinsics &K = window.K;
 		fromOccluder += finds(cfg, view, K, Eigen::Vector3d::Zero(), truth, 20, {}, occluderMm);
@@ -761,7 +768,7 @@ TEST_F(ViewSearchTest, ClimbedProposalsAreScoredOnTheViewTheyShow)
 		std::vector<float> depth;
 		const Pose truth = centredPose(rng, depth);
 		const float occluderMm = static_cast<float>(truth.t.z() - 120);
-		const ClippedWindow window = halfHiddenBoxWindow(depth, occluderMm);
+		const Window window = boxWindow(depth, 1, occluderMm);
 		const ImageView<const float> view = window.view();
 		const CameraIntrinsics &K = window.K;
 		const BoxAxes box{true, true, {}};
@@ -879,27 +886,11 @@ TEST_F(ViewSearchTest, SparseScoreAgreesWithTheBoxAsTheFullScoreDoes)
 	for (int i = 0; i < 4; ++i) {
 		std::vector<float> depth;
 		const Pose truth = centredPose(rng, depth);
-		const Extent e = extent(depth);
-		// A window centred on the principal point, `scale` times the
-		// extent's half sizes (5 % more) on each side.
 		auto score = [&](const ViewSearchConfig &cfg, int scale) {
-			const int halfW = scale * ((e.u1 - e.u0) * 21 / 40 + 1), halfH = scale * ((e.v1 - e.v0) * 21 / 40 + 1);
-			const int x0 = static_cast<int>(K_.cx) - halfW, y0 = static_cast<int>(K_.cy) - halfH;
-			const int w = 2 * halfW + 1, h = 2 * halfH + 1;
-			std::vector<float> window(static_cast<size_t>(w) * h, 1150.0f);
-			for (int y = 0; y < h; ++y)
-				for (int x = 0; x < w; ++x)
-					if (x + x0 >= 0 && x + x0 < K_.width && y + y0 >= 0 && y + y0 < K_.height)
-						window[static_cast<size_t>(y) * w + x] =
-							depth[static_cast<size_t>(y + y0) * K_.width + x + x0];
-			CameraIntrinsics K = K_;
-			K.cx -= x0;
-			K.cy -= y0;
-			K.width = w;
-			K.height = h;
+			const Window window = boxWindow(depth, scale);
 			Eigen::Vector3d aligned;
-			return sparsePoseScore(t, nearestView(t, truth), cfg, ImageView<const float>(window.data(), w, h, w), K,
-					       truth, BoxAxes{}, aligned);
+			return sparsePoseScore(t, nearestView(t, truth), cfg, window.view(), window.K, truth, BoxAxes{},
+					       aligned);
 		};
 		const float tight = score(off, 1);
 		EXPECT_GT(tight, 0.8f) << i;
