@@ -141,7 +141,7 @@ PoseEstimate PoseEstimator::estimate(ImageView<const float> depth, const CameraI
 		views_.propose(proposals, {}, {});
 	out.budgetStopped = planner_.boxCut();
 
-	// The best distinct hypotheses polished; the best score wins.
+	// The best distinct hypotheses polished; the best polished one wins.
 	Hypothesis best = pool_.best();
 	Polished polished;
 	polishCandidates(proposals, forestBests, polished, best, out);
@@ -342,7 +342,12 @@ Hypothesis PoseEstimator::voteIteration(ProposalBox &box, int k, const Estimator
 // Each candidate is polished by ICP on the crop cut to its own depth range.
 // Candidates are polished in rounds, one per pool thread (each polish on its
 // own slot), and their results taken in candidate order as one thread
-// would; the budget is checked before each round.
+// would; the budget is checked before each round. The best polished
+// candidate replaces `best` (the pool's best as proposed) even where that
+// proposal scored higher: the best of many guesses, each placed by a
+// sparse fit, is the one whose score luck raised most, while a polished
+// pose has settled where the depth holds it. Where the budget polished
+// none, the proposal stands.
 void PoseEstimator::polishCandidates(ProposalBox &box, const Hypothesis (&forestBests)[2], Polished &polished,
 				     Hypothesis &best, PoseEstimate &out)
 {
@@ -355,6 +360,8 @@ void PoseEstimator::polishCandidates(ProposalBox &box, const Hypothesis (&forest
 	polished.candidates = candidates.size();
 	const size_t round = static_cast<size_t>(box.polisher.threads());
 	Hypothesis icped[kMaxPolished];
+	Hypothesis polishedBest;
+	bool bestIcped = false;
 	for (size_t c0 = 0; c0 < candidates.size(); c0 += round) {
 		if (!planner_.polishFits(config.budgetMargin)) {
 			out.icpSkipped = true;
@@ -365,15 +372,19 @@ void PoseEstimator::polishCandidates(ProposalBox &box, const Hypothesis (&forest
 		box.polisher.polishAll(candidates.items().subspan(c0, n), std::span<Hypothesis>(icped + c0, n), Stage::kIcp);
 		for (size_t c = c0; c < c0 + n; ++c) {
 			polished.results[c] = icped[c].valid ? icped[c] : candidates[c];
-			if (icped[c].valid) {
+			if (icped[c].valid)
 				pool_.report(icped[c], "icp", static_cast<int>(c));
-				out.icpApplied |= takeBetter(best, icped[c]);
-			}
+			if (takeBetter(polishedBest, polished.results[c]))
+				bestIcped = icped[c].valid;
 		}
 		polished.count = c0 + n;
 		// The cost model sees the whole round (its clouds are counted
 		// under the cloud stage on one thread, under ICP on more).
 		planner_.observePolish(icpStart);
+	}
+	if (polishedBest.valid) {
+		best = polishedBest;
+		out.icpApplied = bestIcped;
 	}
 }
 

@@ -15,8 +15,9 @@
 //  4. proposals the votes did not give (proposal_source.h): the view
 //     templates searched at the voted and the depth centres;
 //  5. a projective ICP polish (hypothesis_polisher.h) of the best distinct
-//     hypotheses, then proposals at the polished best (a re-search, the
-//     half-turns); the best score wins;
+//     hypotheses, the best polished one winning over every proposal as
+//     scored; then proposals at the polished best (a re-search, the
+//     half-turns), each taken if it scores higher;
 //  6. a nearly symmetric object's best compared with its turns on the pixels
 //     where they differ (symmetry_rivals.h);
 //  7. the confidence: the score less a close distinct rival's (rival_poses.h),

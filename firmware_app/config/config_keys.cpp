@@ -104,7 +104,7 @@ const KeyDesc kEstimateKeys[] = {
 
 	E("icp", "enabled", estimator.icp, kAny, U, "polish the best hypotheses with ICP (not in the paper)"),
 	E("icp", "candidates", estimator.icpCandidates, atLeast(0), U,
-	  "distinct best hypotheses polished; the best score wins"),
+	  "distinct best hypotheses polished; the best polished one wins"),
 	E("icp", "forest_bests", estimator.polishForestBests, kAny, X,
 	  "after a refinement also polish the forest's best of the registration and of the last iteration when the "
 	  "ranking leaves them out"),
