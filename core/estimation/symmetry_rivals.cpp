@@ -103,7 +103,33 @@ size_t SymmetryRivalSource::closeRivalsOf(ProposalBox &box, const Hypothesis &be
 	return n;
 }
 
-bool SymmetryRivalSource::isTurnOf(const ProposalBox &box, const Pose &best, const Pose &pose, double distinctMm)
+size_t SymmetryRivalSource::reportedTurnsOf(ProposalBox &box, const Hypothesis &best, std::span<Rival> out)
+{
+	const double distinctMm =
+		static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
+	// Twice as many asked for as wanted: most of the best's distinct
+	// rivals are no turns of it.
+	RivalPose reported[2 * kMaxReportedTurns];
+	const size_t wanted = std::min(out.size(), static_cast<size_t>(kMaxReportedTurns));
+	const size_t found = box.pool.bestDistinctRivals(best.pose, box.model.mesh().vertices, distinctMm,
+							 std::span<RivalPose>(reported, 2 * wanted));
+	size_t n = 0;
+	for (size_t k = 0; k < found && n < wanted; ++k) {
+		Eigen::Vector3d axis;
+		if (!(reported[k].pose.t.z() > 0) || !isTurnOf(box, best.pose, reported[k].pose, distinctMm, &axis))
+			continue;
+		Rival &t = out[n++];
+		t = {};
+		t.pose = reported[k].pose;
+		t.axis = axis;
+		t.distinct = true;
+		t.reported = true;
+	}
+	return n;
+}
+
+bool SymmetryRivalSource::isTurnOf(const ProposalBox &box, const Pose &best, const Pose &pose, double distinctMm,
+				   Eigen::Vector3d *turnAxis)
 {
 	// pose.R = best.R * Q; the turn about an axis is Q's twist about it.
 	const Eigen::Matrix3d q = best.R.transpose() * pose.R;
@@ -116,8 +142,11 @@ bool SymmetryRivalSource::isTurnOf(const ProposalBox &box, const Pose &best, con
 		const double twist = std::atan2(axis.dot(u.cross(turned)), u.dot(turned));
 		const Pose turnedBest =
 			turnedAbout(best, Eigen::AngleAxisd(twist, axis).toRotationMatrix(), s.point.cast<double>());
-		if (meanPoseDistance(box.model.mesh().vertices, turnedBest, pose) <= distinctMm)
+		if (meanPoseDistance(box.model.mesh().vertices, turnedBest, pose) <= distinctMm) {
+			if (turnAxis)
+				*turnAxis = s.axis.cast<double>();
 			return true;
+		}
 	}
 	return false;
 }
@@ -168,7 +197,7 @@ void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best,
 	Rival *undecided[kMaxSymmetryTurns];
 	size_t nu = 0;
 	for (Rival &t : rivals)
-		if (!decisivelyBy(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg))
+		if (!t.reported && !decisivelyBy(t.evidence.forA, t.evidence.forB, t.evidence.informative, cfg))
 			undecided[nu++] = &t;
 	const auto ahead = [](const Rival *u) { return u->evidence.forB - u->evidence.forA; };
 	// Ties keep the turns' order (std::sort, not stable_sort: that one may allocate).
@@ -290,6 +319,7 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 			break;
 		const int64_t start = box.planner.timer().last();
 		size_t n = turnsOf(box, current.pose, std::span<Rival>(rivals, kMaxSymmetryTurns));
+		n += reportedTurnsOf(box, current, std::span<Rival>(rivals + n, kMaxSymmetryTurns - n));
 		if (!compareWithBest(box, box.parts, current.pose, std::span<Rival>(rivals, n), PoseDifference::kPart))
 			n = 0;
 		box.planner.observeStage(Stage::kSymmetryTurns, start, true);
@@ -313,7 +343,7 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 		int distinctTurns = 0, beaten = 0;
 		for (size_t k = 0; k < n; ++k) {
 			const Rival &t = rivals[k];
-			if (!t.distinct)
+			if (!t.distinct || t.reported)
 				continue;
 			++distinctTurns;
 			if (decisivelyBy(t.evidence.forA, t.evidence.forB, t.evidence.informative, certain)) {

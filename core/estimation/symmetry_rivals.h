@@ -4,9 +4,10 @@
 // The rival turns of a nearly symmetric object as a proposal source: the
 // best pose turned about each of the model's near-symmetries (near_symmetry.h;
 // every stepDeg about a continuous axis, the stored turn both ways round
-// about a discrete one), each compared with the best on the pixels where
-// their renders differ (part_evidence.h), not by the whole-silhouette score
-// on which they tie. First, when the budget has room, the best is compared
+// about a discrete one), and the reported poses that are turns of it about
+// a continuous axis (at their own angle, between the steps), each compared
+// with the best on the pixels where their renders differ (part_evidence.h),
+// not by the whole-silhouette score on which they tie. First, when the budget has room, the best is compared
 // the same way with its close rivals: the best-scoring hypotheses distinct
 // from it and not its turns about a continuous axis (the object upside
 // down and slid along its axis covers less of the depth but fits what it
@@ -35,6 +36,8 @@ inline constexpr int kMaxSymmetryTurns = 48;
 inline constexpr int kMaxSymmetryRivalsPolished = 8;
 // Close rivals compared at most.
 inline constexpr int kMaxCloseRivals = 8;
+// Turns of the best that the estimator itself reported, compared at most.
+inline constexpr int kMaxReportedTurns = 4;
 static_assert(kMaxCloseRivals <= kMaxSymmetryTurns, "the close rivals are compared in the turns' storage");
 
 // What the last box's comparison found.
@@ -64,11 +67,19 @@ private:
 		Pose pose;
 		Eigen::Vector3d axis = Eigen::Vector3d::Zero(); // a turn's, model frame
 		bool distinct = false; // its model points lie more than the confidence's distinct share away
+		bool reported = false; // a turn the estimator reported (reportedTurnsOf()): it may win, while
+				       // the verdict is the steps' and it is not polished again
 		PartEvidence evidence; // A: the best, B: the rival
 		Hypothesis polished;   // the rival polished, when it was
 	};
 	// best's turns (at most out.size()); returns how many.
 	static size_t turnsOf(ProposalBox &box, const Pose &best, std::span<Rival> out);
+	// best's turns that the estimator reported itself: the highest-scoring
+	// reported poses distinct from it that are its turns about a
+	// continuous near-symmetry axis, at their own angle and fitted where
+	// turnsOf()'s steps land up to half a step beside the part; at most
+	// kMaxReportedTurns and out.size(); returns how many.
+	static size_t reportedTurnsOf(ProposalBox &box, const Hypothesis &best, std::span<Rival> out);
 	// best's close rivals: the highest-scoring reported poses, each a
 	// distinct share away from it and from those taken before and none a
 	// turn of it about a continuous near-symmetry axis, at most
@@ -78,7 +89,9 @@ private:
 	// of the model's continuous near-symmetry axes. Turns about a discrete
 	// axis stay close rivals: the polished pose fits better than the turn
 	// the comparison makes.
-	static bool isTurnOf(const ProposalBox &box, const Pose &best, const Pose &pose, double distinctMm);
+	// axis, when not null: that near-symmetry's axis.
+	static bool isTurnOf(const ProposalBox &box, const Pose &best, const Pose &pose, double distinctMm,
+			     Eigen::Vector3d *axis = nullptr);
 	// best rendered as the window's reference, and each rival compared
 	// with it in the window; false when best cannot be rendered.
 	// difference: how the rivals differ from best (best's turns by a part,

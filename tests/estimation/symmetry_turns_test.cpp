@@ -9,7 +9,8 @@
 // that tracks it in the frames after.
 // The stage alone, given the cup upside down and slid along its axis as the
 // best, takes the truth among the reported poses unless its score lies far
-// below, and leaves a turn about the axis to the turns.
+// below, and leaves a turn about the axis to the turns; a reported turn
+// between the turns' steps is compared at its own angle.
 
 #include <algorithm>
 #include <cmath>
@@ -370,6 +371,26 @@ TEST_F(SymmetryTurns, ATurnAboutTheAxisIsLeftToTheTurns)
 	const Hypothesis chosen = source.propose(scene.box(), best, {});
 	EXPECT_TRUE(replaced.poses.empty());
 	EXPECT_LT(handleAngleDeg(chosen.pose, gt), 15.0);
+}
+
+TEST_F(SymmetryTurns, AReportedTurnBetweenTheStepsIsComparedAtItsOwnAngle)
+{
+	// The best is the truth turned 52 deg about the cup's axis, between the
+	// comparison's 15 deg steps (the nearest land 7 and 8 deg beside the
+	// handle); the truth, reported, is compared at its own angle and wins.
+	const Pose gt = uprightCup();
+	EstimatorConfig config;
+	config.icp = false;
+	CloseRivalBox scene(*model_, gt, config);
+	const Hypothesis best = scene.report(turnedAbout(
+		gt, Eigen::AngleAxisd(52 * kDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix(), Eigen::Vector3d::Zero()));
+	scene.report(gt);
+	SymmetryRivalSource source;
+	const Hypothesis chosen = source.propose(scene.box(), best, {});
+	ASSERT_TRUE(chosen.valid);
+	EXPECT_TRUE(source.verdict().turned);
+	EXPECT_LT(handleAngleDeg(chosen.pose, gt), 1.0);
+	EXPECT_LT(addError(chosen.pose, gt, model_->mesh().vertices), 1.0);
 }
 
 TEST_F(SymmetryTurns, TrackedHiddenHandleStaysAmbiguous)
