@@ -35,6 +35,13 @@ double meanTurnDistance(std::span<const Eigen::Vector3f> vertices, const Eigen::
 	return meanPoseDistance(vertices, Pose{}, turned);
 }
 
+// How far (mean model-point distance, mm) two poses lie when the confidence
+// calls them distinct.
+double distinctMmOf(const ProposalBox &box)
+{
+	return static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
+}
+
 } // namespace
 
 bool SymmetryRivalSource::enabled(const ProposalBox &box) const
@@ -45,8 +52,7 @@ bool SymmetryRivalSource::enabled(const ProposalBox &box) const
 size_t SymmetryRivalSource::turnsOf(ProposalBox &box, const Pose &best, std::span<Rival> out)
 {
 	const SymmetryTurnConfig &cfg = box.config.symmetryTurns;
-	const double distinctMm =
-		static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
+	const double distinctMm = distinctMmOf(box);
 	const std::span<const Eigen::Vector3f> vertices = box.model.mesh().vertices;
 	size_t n = 0;
 	auto add = [&](const NearSymmetry &s, double deg) {
@@ -80,50 +86,40 @@ size_t SymmetryRivalSource::turnsOf(ProposalBox &box, const Pose &best, std::spa
 
 size_t SymmetryRivalSource::closeRivalsOf(ProposalBox &box, const Hypothesis &best, std::span<Rival> out)
 {
-	const double distinctMm =
-		static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
-	const std::span<const Eigen::Vector3f> vertices = box.model.mesh().vertices;
-	// Twice as many asked for as wanted: the best's own turns among them
-	// are left to the turns' comparison, which also says when the depth
-	// cannot tell them apart.
-	RivalPose close[2 * kMaxCloseRivals];
-	const size_t wanted = std::min(out.size(), static_cast<size_t>(std::clamp(box.config.symmetryTurns.closeRivals, 0,
-										      kMaxCloseRivals)));
-	const size_t found = box.pool.bestDistinctRivals(best.pose, vertices, distinctMm,
-							 std::span<RivalPose>(close, 2 * wanted));
-	size_t n = 0;
-	for (size_t k = 0; k < found && n < wanted; ++k) {
-		if (!(close[k].pose.t.z() > 0) || isTurnOf(box, best.pose, close[k].pose, distinctMm))
-			continue;
-		Rival &c = out[n++];
-		c = {};
-		c.pose = close[k].pose;
-		c.distinct = true;
-	}
-	return n;
+	// The best's own turns among the reported poses are left to the turns'
+	// comparison, which also says when the depth cannot tell them apart.
+	const int wanted = std::clamp(box.config.symmetryTurns.closeRivals, 0, kMaxCloseRivals);
+	return reportedRivalsOf(box, best.pose, static_cast<size_t>(wanted), false, out);
 }
 
 size_t SymmetryRivalSource::reportedTurnsOf(ProposalBox &box, const Hypothesis &best, std::span<Rival> out)
 {
-	const double distinctMm =
-		static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
-	// Twice as many asked for as wanted: most of the best's distinct
-	// rivals are no turns of it.
-	RivalPose reported[2 * kMaxReportedTurns];
-	const size_t wanted = std::min(out.size(), static_cast<size_t>(kMaxReportedTurns));
-	const size_t found = box.pool.bestDistinctRivals(best.pose, box.model.mesh().vertices, distinctMm,
+	const size_t n = reportedRivalsOf(box, best.pose, kMaxReportedTurns, true, out);
+	for (Rival &t : out.first(n))
+		t.reported = true;
+	return n;
+}
+
+size_t SymmetryRivalSource::reportedRivalsOf(ProposalBox &box, const Pose &best, size_t wanted, bool turns,
+					     std::span<Rival> out)
+{
+	const double distinctMm = distinctMmOf(box);
+	// Twice as many asked for as wanted: the reported poses distinct from
+	// the best are turns of it and others, in any mix.
+	RivalPose reported[2 * kMaxCloseRivals];
+	wanted = std::min({wanted, out.size(), static_cast<size_t>(kMaxCloseRivals)});
+	const size_t found = box.pool.bestDistinctRivals(best, box.model.mesh().vertices, distinctMm,
 							 std::span<RivalPose>(reported, 2 * wanted));
 	size_t n = 0;
 	for (size_t k = 0; k < found && n < wanted; ++k) {
-		Eigen::Vector3d axis;
-		if (!(reported[k].pose.t.z() > 0) || !isTurnOf(box, best.pose, reported[k].pose, distinctMm, &axis))
+		Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+		if (!(reported[k].pose.t.z() > 0) || isTurnOf(box, best, reported[k].pose, distinctMm, &axis) != turns)
 			continue;
-		Rival &t = out[n++];
-		t = {};
-		t.pose = reported[k].pose;
-		t.axis = axis;
-		t.distinct = true;
-		t.reported = true;
+		Rival &r = out[n++];
+		r = {};
+		r.pose = reported[k].pose;
+		r.axis = axis;
+		r.distinct = true;
 	}
 	return n;
 }
@@ -222,8 +218,7 @@ void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best,
 	// A turn that the polish brought back onto the best keeps its first
 	// comparison: where the body alone pulls it back, the part is not what
 	// told them apart.
-	const double distinctMm =
-		static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
+	const double distinctMm = distinctMmOf(box);
 	size_t moved = 0;
 	Rival raw[kMaxSymmetryRivalsPolished];
 	for (size_t j = 0; j < np; ++j) {

@@ -1,22 +1,22 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-// The rival turns of a nearly symmetric object as a proposal source: the
-// best pose turned about each of the model's near-symmetries (near_symmetry.h;
-// every stepDeg about a continuous axis, the stored turn both ways round
-// about a discrete one), and the reported poses that are turns of it about
-// a continuous axis (at their own angle, between the steps), each compared
-// with the best on the pixels where their renders differ (part_evidence.h),
-// not by the whole-silhouette score on which they tie. First, when the budget has room, the best is compared
-// the same way with its close rivals: the best-scoring hypotheses distinct
-// from it and not its turns about a continuous axis (the object upside
-// down and slid along its axis covers less of the depth but fits what it
-// covers as well as the truth, whose turn it is not); one the depth
-// favours replaces it if, polished, it scores nearly as well. A turn the
-// depth favours (its part pixels ahead two to one, preferredBy())
-// replaces the best (then polished, when a polish fits the budget, and
-// compared again with its own turns); the final comparison says whether
-// the best beat every distinct turn three to one (decisivelyBy():
+// The rival turns of a nearly symmetric object as a proposal source: the best
+// pose turned about each of the model's near-symmetries (near_symmetry.h;
+// every stepDeg about a continuous axis, the stored turn both ways round about
+// a discrete one), and the reported poses that are turns of it about a
+// continuous axis (at their own angle, between the steps), each compared with
+// the best on the pixels where their renders differ (part_evidence.h), not by
+// the whole-silhouette score on which they tie. First, when the budget has
+// room, the best is compared the same way with its close rivals: the
+// best-scoring hypotheses distinct from it and not its turns about a
+// continuous axis (the object upside down and slid along its axis covers less
+// of the depth but fits what it covers as well as the truth, whose turn it is
+// not); one the depth favours replaces it if, polished, it scores nearly as
+// well. A turn the depth favours (its part pixels ahead two to one,
+// preferredBy()) replaces the best (then polished, when a polish fits the
+// budget, and compared again with its own turns); the final comparison says
+// whether the best beat every distinct turn three to one (decisivelyBy():
 // decisive) or not (the part hidden: ambiguous, with that turn's axis).
 // Not in the paper.
 
@@ -39,6 +39,7 @@ inline constexpr int kMaxCloseRivals = 8;
 // Turns of the best that the estimator itself reported, compared at most.
 inline constexpr int kMaxReportedTurns = 4;
 static_assert(kMaxCloseRivals <= kMaxSymmetryTurns, "the close rivals are compared in the turns' storage");
+static_assert(kMaxReportedTurns <= kMaxCloseRivals, "the reported turns are found as the close rivals are");
 
 // What the last box's comparison found.
 struct SymmetryVerdict {
@@ -80,6 +81,13 @@ private:
 	// turnsOf()'s steps land up to half a step beside the part; at most
 	// kMaxReportedTurns and out.size(); returns how many.
 	static size_t reportedTurnsOf(ProposalBox &box, const Hypothesis &best, std::span<Rival> out);
+	// The highest-scoring reported poses, each a distinct share away from
+	// best and from those taken before, that are (turns) or are not its
+	// turns about a continuous near-symmetry axis (isTurnOf(); axis: that
+	// turn's); at most wanted, kMaxCloseRivals and out.size(); returns how
+	// many.
+	static size_t reportedRivalsOf(ProposalBox &box, const Pose &best, size_t wanted, bool turns,
+				       std::span<Rival> out);
 	// best's close rivals: the highest-scoring reported poses, each a
 	// distinct share away from it and from those taken before and none a
 	// turn of it about a continuous near-symmetry axis, at most
