@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "core/geometry/rotation.h"
 #include "core/pose/depth_agreement.h"
@@ -44,6 +46,33 @@ struct TurnedView {
 struct PixelExtent {
 	float u0 = 0, u1 = 0, w0 = 0, w1 = 0;
 };
+
+// The extent of n projections (u, w), four lanes at a time: a loop's own
+// min and max over floats would keep the loop that fills u and w off vector
+// lanes. A NaN is passed over as std::min passes it over (on NEON, where
+// the lanes keep it, the extent is NaN and the box agreement 0: a point at
+// the camera's centre).
+PixelExtent extentOf(const float *u, const float *w, int n)
+{
+	using Lanes = Eigen::Array4f;
+	Lanes u0 = Lanes::Constant(1e30f), u1 = Lanes::Constant(-1e30f), w0 = u0, w1 = u1;
+	int i = 0;
+	for (; i + 4 <= n; i += 4) {
+		const Lanes a = Lanes::Map(u + i), b = Lanes::Map(w + i);
+		u0 = u0.min(a);
+		u1 = u1.max(a);
+		w0 = w0.min(b);
+		w1 = w1.max(b);
+	}
+	PixelExtent e{u0.minCoeff(), u1.maxCoeff(), w0.minCoeff(), w1.maxCoeff()};
+	for (; i < n; ++i) {
+		e.u0 = std::min(e.u0, u[i]);
+		e.u1 = std::max(e.u1, u[i]);
+		e.w0 = std::min(e.w0, w[i]);
+		e.w1 = std::max(e.w1, w[i]);
+	}
+	return e;
+}
 
 struct Tally {
 	int in = 0, out = 0, occ = 0, outside = 0, residuals = 0;
@@ -115,8 +144,9 @@ public:
 		const float c = v.c, s = v.s, tx = t.x(), ty = t.y(), tz = t.z();
 		const float fx = fx_, fy = fy_, cx = cx_, cy = cy_;
 		const float *ax = v.a->x.data(), *ay = v.a->y.data(), *az = v.a->z.data();
+		std::array<float, kMaxViewPoints> us, ws;
+		float *const pu = us.data(), *const pw = ws.data();
 		int outside = 0;
-		float u0 = 1e30f, u1 = -1e30f, w0 = 1e30f, w1 = -1e30f;
 		for (int i = 0; i < n; ++i) {
 			const float z = az[i] + tz;
 			const float x = c * ax[i] - s * ay[i] + tx;
@@ -124,10 +154,8 @@ public:
 			// floor(f) is below 0 or at least the size exactly when f is.
 			const float fu = fx * x / z + cx + 0.5f;
 			const float fw = fy * y / z + cy + 0.5f;
-			u0 = std::min(u0, fu);
-			u1 = std::max(u1, fu);
-			w0 = std::min(w0, fw);
-			w1 = std::max(w1, fw);
+			pu[i] = fu;
+			pw[i] = fw;
 			// Bitwise, not short-circuit: no branch in the loop.
 			const int front = z > 1.0f;
 			const int lo = fu < 0, hi = fu >= width, up = fw < 0, down = fw >= height;
@@ -138,7 +166,7 @@ public:
 			pixel[i] = inside ? w * stride + u : -1;
 			depth[i] = z;
 		}
-		extent = {u0, u1, w0, w1};
+		extent = extentOf(pu, pw, n);
 		return outside;
 	}
 
@@ -151,8 +179,11 @@ public:
 		k.in += in;
 		k.out += out;
 		k.occ += valid & (1 - in) & (1 - out);
-		// Adding 0 leaves the sum as it is: the same sum as a branch.
-		k.fit += in ? inlierFit(e, cfg_.inlierMm, cfg_.residualWeight) : 0.0f;
+		// The fit of every residual, kept by a mask: a select here becomes a
+		// branch around the division, mispredicted as often as not. Adding
+		// the masked +0 leaves the sum as it is, the same sum as a branch.
+		const float fit = inlierFit(e, cfg_.inlierMm, cfg_.residualWeight);
+		k.fit += std::bit_cast<float>(std::bit_cast<uint32_t>(fit) & (0u - static_cast<uint32_t>(in)));
 	}
 
 	// The points' projected extent at t, in pixels from the optical axis;
@@ -177,13 +208,11 @@ public:
 		e.behind = behind;
 		if (behind)
 			return e;
-		for (int i = 0; i < v.n; ++i) {
-			const float u = us[i], w = ws[i];
-			e.u0 = std::min(e.u0, u);
-			e.u1 = std::max(e.u1, u);
-			e.w0 = std::min(e.w0, w);
-			e.w1 = std::max(e.w1, w);
-		}
+		const PixelExtent p = extentOf(us.data(), ws.data(), v.n);
+		e.u0 = p.u0;
+		e.u1 = p.u1;
+		e.w0 = p.w0;
+		e.w1 = p.w1;
 		return e;
 	}
 
