@@ -99,7 +99,7 @@ public:
 		std::array<int, kMaxViewPoints> pixel;
 		std::array<float, kMaxViewPoints> depth;
 		Tally k;
-		k.outside = project(v, t, pixel.data(), depth.data(), k.extent);
+		k.outside = project(v, t, pixel.data(), depth.data(), &k.extent);
 		// Branch-free: whether a point is compared, kept as a residual or
 		// an inlier is random from point to point, and mispredicted
 		// branches cost more than the writes each point makes anyway.
@@ -107,11 +107,8 @@ public:
 		float *const kept = all ? all : scratch.data();
 		float *const shifted = res ? res : scratch.data();
 		const float *const obs = obs_.data;
-		// Placed by the box's size, the object is where the box says and
-		// may be behind what the sensor saw there: only residuals from the
-		// inlier band behind move it (one seen in front is an occluder).
 		const float maxShift = res ? cfg_.maxShiftMm : -1.0f;
-		const float minShift = res ? (cfg_.placeBySize ? -cfg_.inlierMm : -cfg_.maxShiftMm) : 1.0f;
+		const float minShift = res ? minShiftMm() : 1.0f;
 		int compared = 0;
 		for (int i = 0; i < v.n; ++i) {
 			const int p = pixel[i];
@@ -127,12 +124,41 @@ public:
 		return k;
 	}
 
+	// The residuals at t within the shift range, into res; returns how
+	// many. The first half of aligned(), which needs nothing else: no
+	// classification, no fit.
+	int shiftResiduals(const TurnedView &v, const Eigen::Vector3f &t, float *res) const
+	{
+		std::array<int, kMaxViewPoints> pixel;
+		std::array<float, kMaxViewPoints> depth;
+		project(v, t, pixel.data(), depth.data(), nullptr);
+		const float *const obs = obs_.data;
+		const float maxShift = cfg_.maxShiftMm, minShift = minShiftMm();
+		int count = 0;
+		for (int i = 0; i < v.n; ++i) {
+			const int p = pixel[i];
+			const float o = obs[p < 0 ? 0 : p];
+			const int valid = (p >= 0) & (o > 0);
+			const float e = o - depth[i];
+			res[count] = e;
+			count += valid & (e > minShift) & (e < maxShift);
+		}
+		return count;
+	}
+
+	// The smallest residual that moves the model along its ray. Placed by
+	// the box's size, the object is where the box says and may be behind
+	// what the sensor saw there: only residuals from the inlier band
+	// behind move it (one seen in front is an occluder).
+	float minShiftMm() const { return cfg_.placeBySize ? -cfg_.inlierMm : -cfg_.maxShiftMm; }
+
 	// Each point's pixel (offset into obs_, -1 when it falls outside the
-	// image) and depth at translation t, and the points' extent; returns
-	// how many points count as outside: behind the camera, or past a side
-	// of the image that the frame did not clip (past a clipped side the
-	// point is unseen: the object may go on there, a border box).
-	int project(const TurnedView &v, const Eigen::Vector3f &t, int *pixel, float *depth, PixelExtent &extent) const
+	// image) and depth at translation t, and the points' extent when
+	// extent is not null; returns how many points count as outside: behind
+	// the camera, or past a side of the image that the frame did not clip
+	// (past a clipped side the point is unseen: the object may go on
+	// there, a border box).
+	int project(const TurnedView &v, const Eigen::Vector3f &t, int *pixel, float *depth, PixelExtent *extent) const
 	{
 		// Everything the loop reads into locals: the stores through
 		// pixel and depth could otherwise alias them, which keeps the loop
@@ -166,7 +192,8 @@ public:
 			pixel[i] = inside ? w * stride + u : -1;
 			depth[i] = z;
 		}
-		extent = extentOf(pu, pw, n);
+		if (extent)
+			*extent = extentOf(pu, pw, n);
 		return outside;
 	}
 
@@ -262,14 +289,12 @@ public:
 	// Tallies at t, moved first along its ray by the median depth residual.
 	Tally aligned(const TurnedView &v, Eigen::Vector3f &t, float *res) const
 	{
-		Tally k = tally(v, t, cfg_.maxShiftMm > 0 ? res : nullptr);
-		if (cfg_.maxShiftMm > 0 && k.residuals >= 8) {
+		const int residuals = cfg_.maxShiftMm > 0 ? shiftResiduals(v, t, res) : 0;
+		if (residuals >= 8)
 			// The median residual moves the model onto the surface the
 			// sensor saw.
-			t *= (t.z() + medianSelect(std::span<float>(res, static_cast<size_t>(k.residuals)))) / t.z();
-			k = tally(v, t, nullptr);
-		}
-		return k;
+			t *= (t.z() + medianSelect(std::span<float>(res, static_cast<size_t>(residuals)))) / t.z();
+		return tally(v, t, nullptr);
 	}
 
 	// aligned() with one projection instead of two: after the move along
