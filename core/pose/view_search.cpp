@@ -75,7 +75,7 @@ PixelExtent extentOf(const float *u, const float *w, int n)
 }
 
 struct Tally {
-	int in = 0, out = 0, occ = 0, outside = 0, residuals = 0;
+	int in = 0, out = 0, occ = 0, outside = 0;
 	float fit = 0; // inliers weighted by residual (the score's rule)
 	PixelExtent extent; // of the points, for the agreement with the box
 };
@@ -90,60 +90,61 @@ public:
 	{
 	}
 
-	// Classifies the points at translation t; residuals within the shift
-	// range are written to res when it is not null. Two loops: the
-	// projection, branch-free so that it runs on vector lanes, then the
-	// lookups in point order.
-	Tally tally(const TurnedView &v, const Eigen::Vector3f &t, float *res, float *all = nullptr) const
+	// Classifies the points at translation t. Two loops: the projection,
+	// branch-free so that it runs on vector lanes, then the lookups in
+	// point order.
+	Tally tally(const TurnedView &v, const Eigen::Vector3f &t) const
 	{
 		std::array<int, kMaxViewPoints> pixel;
 		std::array<float, kMaxViewPoints> depth;
 		Tally k;
 		k.outside = project(v, t, pixel.data(), depth.data(), &k.extent);
-		// Branch-free: whether a point is compared, kept as a residual or
-		// an inlier is random from point to point, and mispredicted
-		// branches cost more than the writes each point makes anyway.
-		std::array<float, kMaxViewPoints> scratch;
-		float *const kept = all ? all : scratch.data();
-		float *const shifted = res ? res : scratch.data();
+		// Branch-free: whether a point is compared or an inlier is random
+		// from point to point, and mispredicted branches cost more than
+		// the work each point does anyway.
 		const float *const obs = obs_.data;
-		const float maxShift = res ? cfg_.maxShiftMm : -1.0f;
-		const float minShift = res ? minShiftMm() : 1.0f;
-		int compared = 0;
 		for (int i = 0; i < v.n; ++i) {
 			const int p = pixel[i];
 			const float o = obs[p < 0 ? 0 : p];
 			const int valid = (p >= 0) & (o > 0);
-			const float e = o - depth[i];
-			kept[compared] = e;
-			compared += valid;
-			shifted[k.residuals] = e;
-			k.residuals += valid & (e > minShift) & (e < maxShift);
-			classifyIf(k, e, valid);
+			classifyIf(k, o - depth[i], valid);
 		}
 		return k;
 	}
 
-	// The residuals at t within the shift range, into res; returns how
-	// many. The first half of aligned(), which needs nothing else: no
-	// classification, no fit.
-	int shiftResiduals(const TurnedView &v, const Eigen::Vector3f &t, float *res) const
+	// What one projection at t gives before any classification.
+	struct Gathered {
+		int compared = 0; // residuals written to `all`
+		int residuals = 0; // of them within the shift range, written to `res`
+		int outside = 0;
+		PixelExtent extent;
+	};
+
+	// The residuals of the points at t the sensor saw, in point order: all
+	// into `all` when it is not null, those within the shift range into
+	// `res`; the extent only when `extent` is set. Stores instead of
+	// branches, as in tally().
+	Gathered gather(const TurnedView &v, const Eigen::Vector3f &t, float *res, float *all, bool extent) const
 	{
 		std::array<int, kMaxViewPoints> pixel;
 		std::array<float, kMaxViewPoints> depth;
-		project(v, t, pixel.data(), depth.data(), nullptr);
+		std::array<float, kMaxViewPoints> scratch;
+		Gathered g;
+		g.outside = project(v, t, pixel.data(), depth.data(), extent ? &g.extent : nullptr);
+		float *const kept = all ? all : scratch.data();
 		const float *const obs = obs_.data;
 		const float maxShift = cfg_.maxShiftMm, minShift = minShiftMm();
-		int count = 0;
 		for (int i = 0; i < v.n; ++i) {
 			const int p = pixel[i];
 			const float o = obs[p < 0 ? 0 : p];
 			const int valid = (p >= 0) & (o > 0);
 			const float e = o - depth[i];
-			res[count] = e;
-			count += valid & (e > minShift) & (e < maxShift);
+			kept[g.compared] = e;
+			g.compared += valid;
+			res[g.residuals] = e;
+			g.residuals += valid & (e > minShift) & (e < maxShift);
 		}
-		return count;
+		return g;
 	}
 
 	// The smallest residual that moves the model along its ray. Placed by
@@ -170,6 +171,11 @@ public:
 		const float c = v.c, s = v.s, tx = t.x(), ty = t.y(), tz = t.z();
 		const float fx = fx_, fy = fy_, cx = cx_, cy = cy_;
 		const float *ax = v.a->x.data(), *ay = v.a->y.data(), *az = v.a->z.data();
+		if (n <= 0) {
+			if (extent)
+				*extent = extentOf(nullptr, nullptr, 0);
+			return 0;
+		}
 		std::array<float, kMaxViewPoints> us, ws;
 		float *const pu = us.data(), *const pw = ws.data();
 		int outside = 0;
@@ -289,12 +295,12 @@ public:
 	// Tallies at t, moved first along its ray by the median depth residual.
 	Tally aligned(const TurnedView &v, Eigen::Vector3f &t, float *res) const
 	{
-		const int residuals = cfg_.maxShiftMm > 0 ? shiftResiduals(v, t, res) : 0;
+		const int residuals = cfg_.maxShiftMm > 0 ? gather(v, t, res, nullptr, false).residuals : 0;
 		if (residuals >= 8)
 			// The median residual moves the model onto the surface the
 			// sensor saw.
 			t *= (t.z() + medianSelect(std::span<float>(res, static_cast<size_t>(residuals)))) / t.z();
-		return tally(v, t, nullptr);
+		return tally(v, t);
 	}
 
 	// aligned() with one projection instead of two: after the move along
@@ -304,19 +310,21 @@ public:
 	Tally alignedOnce(const TurnedView &v, Eigen::Vector3f &t, float *res, float *all) const
 	{
 		if (!(cfg_.maxShiftMm > 0))
-			return tally(v, t, nullptr);
-		Tally k = tally(v, t, res, all);
-		if (k.residuals < 8)
+			return tally(v, t);
+		const Gathered g = gather(v, t, res, all, true);
+		Tally k;
+		k.outside = g.outside;
+		k.extent = g.extent;
+		if (g.residuals < 8) {
+			for (int i = 0; i < g.compared; ++i)
+				classifyIf(k, all[i], 1);
 			return k;
-		const float shift = medianSelect(std::span<float>(res, static_cast<size_t>(k.residuals)));
+		}
+		const float shift = medianSelect(std::span<float>(res, static_cast<size_t>(g.residuals)));
 		t *= (t.z() + shift) / t.z();
-		const int compared = k.in + k.out + k.occ;
-		Tally moved;
-		moved.outside = k.outside;
-		moved.extent = k.extent;
-		for (int i = 0; i < compared; ++i)
-			classifyIf(moved, all[i] - shift, 1);
-		return moved;
+		for (int i = 0; i < g.compared; ++i)
+			classifyIf(k, all[i] - shift, 1);
+		return k;
 	}
 
 	float score(const Tally &k, int n) const
