@@ -171,6 +171,8 @@ public:
 		const float c = v.c, s = v.s, tx = t.x(), ty = t.y(), tz = t.z();
 		const float fx = fx_, fy = fy_, cx = cx_, cy = cy_;
 		const float *ax = v.a->x.data(), *ay = v.a->y.data(), *az = v.a->z.data();
+		// No points: nothing outside, the empty extent (and GCC sees the
+		// arrays below written before extentOf() reads them).
 		if (n <= 0) {
 			if (extent)
 				*extent = extentOf(nullptr, nullptr, 0);
@@ -315,13 +317,12 @@ public:
 		Tally k;
 		k.outside = g.outside;
 		k.extent = g.extent;
-		if (g.residuals < 8) {
-			for (int i = 0; i < g.compared; ++i)
-				classifyIf(k, all[i], 1);
-			return k;
+		// Unmoved, every residual less +0: itself, bit for bit.
+		float shift = 0.0f;
+		if (g.residuals >= 8) {
+			shift = medianSelect(std::span<float>(res, static_cast<size_t>(g.residuals)));
+			t *= (t.z() + shift) / t.z();
 		}
-		const float shift = medianSelect(std::span<float>(res, static_cast<size_t>(g.residuals)));
-		t *= (t.z() + shift) / t.z();
 		for (int i = 0; i < g.compared; ++i)
 			classifyIf(k, all[i] - shift, 1);
 		return k;
