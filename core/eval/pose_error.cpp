@@ -26,24 +26,21 @@ double addError(const Pose &est, const Pose &gt, std::span<const Eigen::Vector3f
 	return sum / static_cast<double>(points.size());
 }
 
-namespace {
-
-// nanoflann's dataset adaptor over a vector of points.
-struct PointCloudAdaptor {
-	const std::vector<Eigen::Vector3f> *points;
-
-	size_t kdtree_get_point_count() const { return points->size(); }
-	float kdtree_get_pt(size_t idx, size_t dim) const { return (*points)[idx][dim]; }
-	template<class Bbox>
-	bool kdtree_get_bbox(Bbox &) const { return false; }
-};
-
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<
-	nanoflann::L2_Simple_Adaptor<float, PointCloudAdaptor>, PointCloudAdaptor, 3, uint32_t>;
-
-} // namespace
-
 struct ClosestPointIndex::Impl {
+	// nanoflann's dataset adaptor over a vector of points. Nested, not in an
+	// anonymous namespace: a field of such a type draws GCC's
+	// -Wsubobject-linkage once a unity build includes this file.
+	struct PointCloudAdaptor {
+		const std::vector<Eigen::Vector3f> *points;
+
+		size_t kdtree_get_point_count() const { return points->size(); }
+		float kdtree_get_pt(size_t idx, size_t dim) const { return (*points)[idx][dim]; }
+		template<class Bbox>
+		bool kdtree_get_bbox(Bbox &) const { return false; }
+	};
+	using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PointCloudAdaptor>,
+							   PointCloudAdaptor, 3, uint32_t>;
+
 	explicit Impl(std::vector<Eigen::Vector3f> pts)
 		: points(std::move(pts)), adaptor{&points},
 		  tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10))

@@ -31,6 +31,13 @@ inline std::filesystem::path freshTempDir(const std::string &name)
 	return dir;
 }
 
+// The path in single quotes, for a shell command line. Built by appending:
+// "'" + string trips a GCC 12 -Wstringop-overflow false positive.
+inline std::string quoted(const std::filesystem::path &p)
+{
+	return std::string(1, '\'').append(p.string()).append(1, '\'');
+}
+
 struct CommandResult {
 	int exitCode = -1;
 	std::string output; // stdout and stderr together

@@ -21,14 +21,7 @@ using nlohmann::json;
 const fs::path kSceneGt = test::lmoDir() / "test" / "000002" / "scene_gt.json";
 const std::vector<int> kObjects = {1, 5, 6, 8, 9, 10, 11, 12};
 
-// Shell-quoted path (appended piecewise: GCC 12 warns falsely on "'" + s).
-std::string q(const fs::path &p)
-{
-	std::string quoted(1, '\'');
-	quoted += p.string();
-	quoted += '\'';
-	return quoted;
-}
+const auto q = test::quoted; // a path in single quotes, for the shell
 
 // The frame's ground truth as results rows (score 1, 0.5 s per image).
 std::vector<ResultRow> groundTruthRows()

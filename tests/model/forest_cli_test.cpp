@@ -17,10 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string q(const fs::path &p)
-{
-	return std::string("'").append(p.string()).append("'");
-}
+const auto q = test::quoted; // a path in single quotes, for the shell
 
 class ForestCliTest : public ::testing::Test
 {

@@ -23,15 +23,7 @@ const char *kCanR = "0.94893088,0.30725587,-0.07208124,0.24200515,-0.85502122,-0
 		    "-0.20257109,0.41784038,-0.88568011";
 const char *kCanT = "134.36598053,45.77287271,964.78389285";
 
-// Shell-quoted path. (Built by appending: "'" + string trips a GCC 12
-// -Wrestrict false positive.)
-std::string q(const fs::path &p)
-{
-	std::string s(1, '\'');
-	s += p.string();
-	s += '\'';
-	return s;
-}
+const auto q = test::quoted; // a path in single quotes, for the shell
 
 std::string canArgs(const fs::path &model, const fs::path &out)
 {

@@ -33,7 +33,7 @@ std::vector<uint16_t> pixels(const DepthImage16 &image)
 	return {p.begin(), p.end()};
 }
 
-std::string q(const fs::path &p) { return "'" + p.string() + "'"; }
+const auto q = test::quoted; // a path in single quotes, for the shell
 
 std::string readAll(const fs::path &p)
 {

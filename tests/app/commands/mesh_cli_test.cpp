@@ -21,15 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Shell-quoted path (appended: "'" + string trips a GCC 12 -Wrestrict
-// false positive).
-std::string q(const fs::path &p)
-{
-	std::string s(1, '\'');
-	s += p.string();
-	s += '\'';
-	return s;
-}
+const auto q = test::quoted; // a path in single quotes, for the shell
 
 std::string readBytes(const fs::path &path)
 {

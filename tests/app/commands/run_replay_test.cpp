@@ -66,7 +66,7 @@ RunOutput readRunOutput(const fs::path &file)
 	return out;
 }
 
-std::string q(const fs::path &p) { return std::string("'").append(p.string()).append("'"); }
+const auto q = test::quoted; // a path in single quotes, for the shell
 
 // `ihf estimate` on the data's dataset and forest with the bundled config.
 std::string estimateCommand(const fs::path &d, const fs::path &out, const std::string &extra = "")

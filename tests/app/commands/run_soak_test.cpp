@@ -42,7 +42,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string q(const fs::path &p) { return std::string("'").append(p.string()).append("'"); }
+const auto q = test::quoted; // a path in single quotes, for the shell
 
 struct Spawned {
 	int exitCode = -1;
