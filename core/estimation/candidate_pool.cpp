@@ -93,6 +93,15 @@ void CandidatePool::report(const Hypothesis &h, const char *stage, int rank, flo
 	observer_->onHypothesis(e);
 }
 
+void CandidatePool::reportComparison(ComparisonEvent event) const
+{
+	if (!observer_)
+		return;
+	event.rival.R = cropRotation_ * event.rival.R;
+	event.rival.t = cropRotation_ * event.rival.t;
+	observer_->onComparison(event);
+}
+
 void CandidatePool::reportVotes(int iteration, int pass, std::span<const CastVote> votes) const
 {
 	if (observer_)

@@ -77,6 +77,10 @@ public:
 	// Every scored hypothesis passes here: a rival for the confidence, and
 	// an event for the observer under `stage` and `rank`.
 	void report(const Hypothesis &h, const char *stage, int rank, float voteDensity = 0);
+	// A comparison of the best with a rival, for the observer (event.rival
+	// in the crop's camera; turned to the real camera here). Not a
+	// hypothesis: it joins no ranking.
+	void reportComparison(ComparisonEvent event) const;
 	// The votes of a pass, for the observer.
 	void reportVotes(int iteration, int pass, std::span<const CastVote> votes) const;
 

@@ -241,6 +241,28 @@ void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best,
 	}
 }
 
+void SymmetryRivalSource::reportComparisons(const ProposalBox &box, const char *kind, int round,
+					     std::span<const Rival> rivals, int minPixels)
+{
+	if (!box.pool.observer())
+		return;
+	for (size_t k = 0; k < rivals.size(); ++k) {
+		const Rival &t = rivals[k];
+		ComparisonEvent e;
+		e.kind = kind;
+		e.round = round;
+		e.rank = static_cast<int>(k);
+		e.rival = t.pose;
+		e.axis = t.axis;
+		e.distinct = t.distinct;
+		e.reported = t.reported;
+		e.polished = t.polished.valid;
+		e.evidence = t.evidence;
+		e.minPixels = minPixels;
+		box.pool.reportComparison(e);
+	}
+}
+
 const SymmetryRivalSource::Rival *SymmetryRivalSource::clearest(std::span<const Rival> rivals,
 								const SymmetryTurnConfig &cfg)
 {
@@ -264,6 +286,7 @@ Hypothesis SymmetryRivalSource::preferredCloseRival(ProposalBox &box, const Hypo
 	if (!compareWithBest(box, window, best.pose, scratch.first(n), PoseDifference::kSilhouette))
 		n = 0;
 	box.planner.observeStage(Stage::kCloseRivals, start, true);
+	reportComparisons(box, "close_rival", 0, scratch.first(n), box.config.symmetryTurns.minPixels);
 	const Rival *winner = clearest(scratch.first(n), box.config.symmetryTurns);
 	if (!winner)
 		return best;
@@ -348,6 +371,7 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 				verdict_.axis = t.axis;
 			}
 		}
+		reportComparisons(box, "turn", round, std::span<const Rival>(rivals, n), certain.minPixels);
 		if (!winner || round + 1 == std::max(cfg.rounds, 1)) {
 			verdict_.decisive = distinctTurns > 0 && beaten == distinctTurns;
 			if (winner)

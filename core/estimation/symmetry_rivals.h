@@ -117,6 +117,10 @@ private:
 	// part the sensor sees, and is heard only once polished. A turn keeps
 	// whichever of its two comparisons favours it more.
 	static void polishRivals(ProposalBox &box, const Hypothesis &best, std::span<Rival> rivals);
+	// Each rival's comparison with the best, for the observer; minPixels:
+	// the lead a verdict on them needed at least.
+	static void reportComparisons(const ProposalBox &box, const char *kind, int round,
+				      std::span<const Rival> rivals, int minPixels);
 	// The rival the depth prefers most clearly over the best, or null.
 	static const Rival *clearest(std::span<const Rival> rivals, const SymmetryTurnConfig &cfg);
 	// The winner as a hypothesis, polished (under `stage`) unless it was.

@@ -422,7 +422,8 @@ void addEstimateCommand(CLI::App &root, Action &action)
 		      "compared byte for byte");
 	cmd->add_option("--trace", opts->trace,
 			"Write every scored hypothesis (and the ground truth's score, if the dataset has scene_gt.json) "
-			"as JSON lines");
+			"and, for a nearly symmetric object, every comparison of the best with a rival turn as JSON "
+			"lines");
 	cmd->add_flag("--sequence", opts->sequence,
 		      "Each scene is a stream (images in id order): boxes are tracked from frame to frame and "
 		      "detected only where needed, as ihf run does");

@@ -110,6 +110,21 @@ void EstimateTrace::onHypothesis(const HypothesisEvent &e)
 		     e.voteDensity);
 }
 
+void EstimateTrace::onComparison(const ComparisonEvent &e)
+{
+	std::fprintf(f_,
+		     "{\"scene_id\":%d,\"im_id\":%d,\"obj_id\":%d,\"stage\":\"comparison\",\"kind\":\"%s\","
+		     "\"round\":%d,\"rank\":%d,",
+		     sceneId_, image_, obj_, e.kind, e.round, e.rank);
+	writePose(e.rival);
+	std::fprintf(f_,
+		     ",\"axis\":[%.4f,%.4f,%.4f],\"distinct\":%s,\"reported\":%s,\"polished\":%s,\"differing\":%d,"
+		     "\"informative\":%d,\"for_best\":%d,\"for_rival\":%d,\"min_pixels\":%d}\n",
+		     e.axis.x(), e.axis.y(), e.axis.z(), e.distinct ? "true" : "false", e.reported ? "true" : "false",
+		     e.polished ? "true" : "false", e.evidence.differing, e.evidence.informative, e.evidence.forA,
+		     e.evidence.forB, e.minPixels);
+}
+
 void EstimateTrace::writeString(const std::string &text)
 {
 	std::fputc('"', f_);

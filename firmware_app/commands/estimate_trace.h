@@ -7,7 +7,11 @@
 // "given"); when it has none, a line of stage "no_truth" says why; the
 // box's answer comes last (stage "result"). Vote lines give the share of
 // the vote weight near each ground-truth pose: rotation within 20 deg,
-// centre within 0.1 diameter, and both.
+// centre within 0.1 diameter, and both. Comparison lines (stage
+// "comparison") give, for a nearly symmetric object, each rival the best was
+// compared with on the pixels where their renders differ, and the pixels
+// that spoke for each: what kept or replaced the best, and what left it
+// certain or ambiguous.
 
 #include <cstdio>
 #include <string>
@@ -35,6 +39,7 @@ public:
 		 const PoseEstimate &estimate) override;
 	void onVotes(const VoteEvent &e) override;
 	void onHypothesis(const HypothesisEvent &e) override;
+	void onComparison(const ComparisonEvent &e) override;
 
 private:
 	// No ground truth to compare this box with: no "given" lines and no vote

@@ -6,7 +6,8 @@
 // show the handle (the turns compared on a finer one); seen with the
 // handle hidden behind its body, the pose comes back flagged ambiguous
 // about the cup's axis, its confidence scaled down, and so does every pose
-// that tracks it in the frames after.
+// that tracks it in the frames after. The comparisons behind each verdict
+// reach the estimator's observer.
 // The stage alone, given the cup upside down and slid along its axis as the
 // best, takes the truth among the reported poses unless its score lies far
 // below, and leaves a turn about the axis to the turns; a reported turn
@@ -26,6 +27,7 @@
 #include "core/estimation/hypothesis_polisher.h"
 #include "core/estimation/pose_estimator.h"
 #include "core/estimation/symmetry_rivals.h"
+#include "core/estimation/symmetry_turn_config.h"
 #include "core/eval/pose_error.h"
 #include "core/forest/forest_trainer.h"
 #include "core/geometry/mesh_simplify.h"
@@ -181,6 +183,73 @@ TEST_F(SymmetryTurns, HandleHiddenIsFlaggedAmbiguous)
 	const PoseEstimate plain = estimator.estimate(depth.view(), kKinect, box, *model_, off);
 	ASSERT_TRUE(plain.found);
 	EXPECT_FALSE(plain.ambiguous);
+}
+
+// The comparisons behind a verdict reach the observer (ihf estimate
+// --trace writes them): with the handle in view every distinct turn of the
+// last round is beaten by the lead the verdict asks; with it hidden one is
+// not, which is why the pose is flagged.
+class ComparisonRecorder : public EstimateObserver
+{
+public:
+	void onHypothesis(const HypothesisEvent &) override {}
+	void onComparison(const ComparisonEvent &e) override { events.push_back(e); }
+
+	// The last round's turns that count in the verdict.
+	std::vector<ComparisonEvent> lastRoundTurns() const
+	{
+		int last = -1;
+		for (const ComparisonEvent &e : events)
+			if (std::string_view(e.kind) == "turn")
+				last = std::max(last, e.round);
+		std::vector<ComparisonEvent> out;
+		for (const ComparisonEvent &e : events)
+			if (std::string_view(e.kind) == "turn" && e.round == last && e.distinct && !e.reported)
+				out.push_back(e);
+		return out;
+	}
+
+	std::vector<ComparisonEvent> events;
+};
+
+bool beatenDecisively(const ComparisonEvent &e)
+{
+	return decisivelyBy(e.evidence.forA, e.evidence.forB, e.evidence.informative,
+			    SymmetryTurnConfig{.minPixels = e.minPixels});
+}
+
+TEST_F(SymmetryTurns, TheComparisonsBehindTheVerdictAreReported)
+{
+	const Eigen::Vector3d middle(0, 0, 47);
+	for (const auto &[azimuth, elevation] : {std::pair{60.0, 25.0}, std::pair{180.0, 8.0}}) {
+		const Pose gt = viewOfCup(azimuth, elevation);
+		DepthImageMm depth(640, 480, 0.0f);
+		const PixelBox box = scene(gt, depth);
+		PoseEstimator estimator;
+		ComparisonRecorder recorder;
+		estimator.setObserver(&recorder);
+		const PoseEstimate e = estimator.estimate(depth.view(), kKinect, box, *model_, EstimatorConfig{});
+		ASSERT_TRUE(e.found) << e.reason;
+		const std::vector<ComparisonEvent> turns = recorder.lastRoundTurns();
+		ASSERT_FALSE(turns.empty()) << "azimuth " << azimuth;
+		int beaten = 0;
+		for (const ComparisonEvent &t : turns) {
+			EXPECT_EQ(t.evidence.forA + t.evidence.forB, t.evidence.informative);
+			EXPECT_LE(t.evidence.informative, t.evidence.differing);
+			EXPECT_GT(std::abs(t.axis.z()), 0.99) << "a turn about the cup's axis";
+			// A turn about the cup's axis leaves its middle in place, in
+			// the real camera's frame.
+			if (!t.polished) {
+				EXPECT_LT((t.rival.apply(middle) - e.pose.apply(middle)).norm(), 10.0);
+			}
+			beaten += beatenDecisively(t);
+		}
+		if (e.ambiguous)
+			EXPECT_LT(beaten, static_cast<int>(turns.size())) << "azimuth " << azimuth;
+		else
+			EXPECT_EQ(beaten, static_cast<int>(turns.size())) << "azimuth " << azimuth;
+		EXPECT_EQ(e.ambiguous, azimuth == 180.0);
+	}
 }
 
 // A box seen through a coarse window (a budget's, downsampled to at most

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 // `ihf estimate` reports the runtime: per-stage times, budget counters and
 // arena use on stderr and with --stats-json; the [budget] key of the
-// configuration is read and checked.
+// configuration is read and checked; --trace writes every hypothesis and,
+// for a nearly symmetric object, every comparison with a rival turn.
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -137,7 +139,7 @@ TEST_F(EstimateCli, TheTraceEndsEachBoxWithItsResult)
 	for (std::string line; std::getline(in, line);) {
 		const auto j = nlohmann::json::parse(line);
 		const std::string stage = j["stage"];
-		if (stage == "votes")
+		if (stage == "votes" || stage == "comparison")
 			continue;
 		if (stage == "given") {
 			++givens;
@@ -288,6 +290,60 @@ TEST_F(EstimateCli, NeedsNoGroundTruth)
 	r = test::runIhf("eval --dataset '" + bare.string() + "' --results '" + (*dir_ / "no_gt.csv").string() + "'");
 	EXPECT_EQ(r.exitCode, 1) << r.output;
 	EXPECT_NE(r.output.find("scene_gt.json"), std::string::npos) << r.output;
+}
+
+// --trace on a nearly symmetric object (a cup, trained small with its
+// near-symmetry): each box's comparisons of the best with its turns about
+// the cup's axis, with the pixels that spoke for each, before its result.
+TEST_F(EstimateCli, TheTraceListsTheTurnsComparedForANearlySymmetricObject)
+{
+	const auto dir = *dir_ / "cup";
+	std::filesystem::create_directories(dir);
+	const auto q = test::quoted;
+	auto r = test::runIhf("synth --make-object cup --id 31 --models " + q(dir / "m"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	std::ofstream(dir / "train.toml") << "[views]\nviewpoints = 40\ninplane_steps = 2\n"
+					     "[scales]\nfactors = [1.0]\nparts_per_image = 8\noccluded_views = 0.0\n";
+	r = test::runIhf("train --model " + q(dir / "m" / "obj_000031.ply") + " --out " + q(dir / "cup.ihf") +
+			 " --config " + q(dir / "train.toml"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	ASSERT_NE(r.output.find("near-symmetry: any turn"), std::string::npos) << r.output;
+	r = test::runIhf("synth --models " + q(dir / "m") +
+			 " --objects 31 --images 2 --seed 5 --distance 650:800 --quiet --out " + q(dir / "syn"));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	const auto trace = dir / "trace.jsonl";
+	r = test::runIhf("estimate --dataset " + q(dir / "syn") + " --boxes " + q(dir / "syn" / "boxes.json") +
+			 " --forest 31=" + q(dir / "cup.ihf") + " --out " + q(dir / "r.csv") +
+			 " --budget-ms 0 --threads 1 --quiet --trace " + q(trace));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+
+	std::ifstream in(trace);
+	ASSERT_TRUE(in.good());
+	int results = 0, turns = 0;
+	for (std::string line; std::getline(in, line);) {
+		const auto j = nlohmann::json::parse(line);
+		if (j["stage"] == "result") {
+			EXPECT_GT(turns, 0) << "no turn compared before this result: " << line;
+			++results;
+			turns = 0;
+			continue;
+		}
+		if (j["stage"] != "comparison")
+			continue;
+		const std::string kind = j["kind"];
+		EXPECT_TRUE(kind == "turn" || kind == "close_rival") << line;
+		ASSERT_EQ(j["R"].size(), 9u) << line;
+		ASSERT_EQ(j["t"].size(), 3u) << line;
+		const int forBest = j["for_best"], forRival = j["for_rival"], informative = j["informative"];
+		EXPECT_EQ(forBest + forRival, informative) << line;
+		EXPECT_LE(informative, j["differing"].get<int>()) << line;
+		EXPECT_GT(j["min_pixels"].get<int>(), 0) << line;
+		if (kind == "turn") {
+			++turns;
+			EXPECT_GT(std::abs(j["axis"][2].get<double>()), 0.99) << "about the cup's axis: " << line;
+		}
+	}
+	EXPECT_EQ(results, 2);
 }
 
 } // namespace
