@@ -13,17 +13,15 @@
 #   margins.py TRACE.jsonl VISIBILITY.jsonl
 import collections, json, math, sys
 
+from part_classes import part_classes
+
 trace, visibility = sys.argv[1:3]
 
+# The finest class of each box.
 kind = {}
 for line in open(visibility):
     v = json.loads(line)
-    key = (v['scene_id'], v['im_id'], v['obj_id'])
-    part, seen = v['part_px'], v['visible_px']
-    k = 'visible' if seen >= 20 and 2 * seen >= part else ('hidden' if seen < 5 else 'partly')
-    if k == 'hidden' and 'rival_px' in v:
-        k += ', told' if v['rival_px'] >= 10 else ', alike'
-    kind[key] = k
+    kind[(v['scene_id'], v['im_id'], v['obj_id'])] = part_classes(v)[-1]
 
 last, flagged = {}, {}
 for line in open(trace):

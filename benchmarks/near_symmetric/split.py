@@ -15,6 +15,8 @@
 #   split.py DATASET RESULTS.csv VISIBILITY.jsonl STATS.json
 import csv, json, math, os, struct, sys
 
+from part_classes import part_classes
+
 dataset, results, visibility, stats = sys.argv[1:5]
 
 def ply_vertices(path):
@@ -70,17 +72,12 @@ table = {}
 for line in open(visibility):
     v = json.loads(line)
     key = (v['scene_id'], v['im_id'], v['obj_id'])
-    part, seen = v['part_px'], v['visible_px']
-    kind = 'visible' if seen >= 20 and 2 * seen >= part else ('hidden' if seen < 5 else 'partly')
     right = False
     if key in est and key in gt:
         (Re, te), (Rg, tg) = est[key], gt[key]
         add = sum(math.dist(apply(Re, te, x), apply(Rg, tg, x)) for x in points(key[2])) / len(points(key[2]))
         right = add <= 0.1 * info[str(key[2])]['diameter']
-    kinds = [kind]
-    if kind == 'hidden' and 'rival_px' in v:
-        kinds.append('hidden, told' if v['rival_px'] >= 10 else 'hidden, alike')
-    for k in kinds:
+    for k in part_classes(v):
         s = table.setdefault((key[2], k), [0, 0, 0])
         s[0] += 1
         s[1] += right
