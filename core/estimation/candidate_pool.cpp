@@ -86,8 +86,7 @@ void CandidatePool::report(const Hypothesis &h, const char *stage, int rank, flo
 	e.iteration = reportedIteration(h);
 	e.stage = stage;
 	e.rank = rank;
-	e.pose.R = cropRotation_ * h.pose.R;
-	e.pose.t = cropRotation_ * h.pose.t;
+	e.pose = inRealCamera(h.pose);
 	e.score = h.score;
 	e.voteDensity = voteDensity;
 	observer_->onHypothesis(e);
@@ -97,9 +96,16 @@ void CandidatePool::reportComparison(ComparisonEvent event) const
 {
 	if (!observer_)
 		return;
-	event.rival.R = cropRotation_ * event.rival.R;
-	event.rival.t = cropRotation_ * event.rival.t;
+	event.rival = inRealCamera(event.rival);
 	observer_->onComparison(event);
+}
+
+Pose CandidatePool::inRealCamera(const Pose &crop) const
+{
+	Pose p;
+	p.R = cropRotation_ * crop.R;
+	p.t = cropRotation_ * crop.t;
+	return p;
 }
 
 void CandidatePool::reportVotes(int iteration, int pass, std::span<const CastVote> votes) const

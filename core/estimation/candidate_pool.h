@@ -125,6 +125,8 @@ public:
 private:
 	// Keeps h in one of the ranked lists.
 	void keepIn(FixedListBase<Hypothesis> &kept, const Hypothesis &h) const;
+	// A pose in the crop's camera as the real camera sees it (observer events).
+	Pose inRealCamera(const Pose &crop) const;
 
 	FixedListBase<Hypothesis> kept_;
 	FixedListBase<Hypothesis> registrationKept_;
