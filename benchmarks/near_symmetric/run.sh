@@ -6,8 +6,9 @@
 # part, the synthetic scenes (110 images an object, occlusion 10-60 %), the
 # forests (config/train.toml; each stores the near-symmetries training
 # found), then estimates unbudgeted at k = 5 and inside a 33 ms frame
-# (config/estimate.toml), scores them (ihf eval) and splits the boxes by
-# whether the part shows (part_visibility, split.py).
+# (config/estimate.toml), scores them (ihf eval, by ADD and by the visible
+# surface, AR_VSD) and splits the boxes by whether the part shows
+# (part_visibility, split.py).
 #
 #   benchmarks/near_symmetric/run.sh OUT
 #
@@ -46,7 +47,7 @@ for budget in 0 33; do
 	"$ihf" estimate --dataset "$out/syn" --boxes "$out/syn/boxes.json" "${forests[@]}" \
 		--config "$root/config/estimate.toml" --iterations 5 --budget-ms $budget --threads 2 \
 		--stats-json "$r.stats.json" --out "$r.csv" --quiet
-	"$ihf" eval --dataset "$out/syn" --results "$r.csv" --json "$r.eval.json" | tee "$r.eval.txt"
+	"$ihf" eval --dataset "$out/syn" --results "$r.csv" --vsd --json "$r.eval.json" | tee "$r.eval.txt"
 	python3 "$root/benchmarks/near_symmetric/split.py" "$out/syn" "$r.csv" "$out/results/visibility.jsonl" \
-		"$r.stats.json" | tee "$r.split.txt"
+		"$r.stats.json" "$r.eval.json" | tee "$r.split.txt"
 done

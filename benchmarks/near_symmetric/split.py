@@ -10,14 +10,18 @@
 # absence shows: a camera's lens turned away, which its rival would show)
 # and "hidden, alike" (no depth could tell: the pose should be flagged).
 # For each: boxes, right at ADD <= 0.1 d, and the share the estimate
-# flagged ambiguous (ihf estimate --stats-json's ambiguous_poses).
+# flagged ambiguous (ihf estimate --stats-json's ambiguous_poses); with the
+# report of `ihf eval --vsd --json`, also AR_VSD, the average recall by the
+# visible surface (the boxes' mean vsd_share), which does not count what the
+# depth cannot show.
 #
-#   split.py DATASET RESULTS.csv VISIBILITY.jsonl STATS.json
+#   split.py DATASET RESULTS.csv VISIBILITY.jsonl STATS.json [EVAL.json]
 import csv, json, math, os, struct, sys
 
 from part_classes import part_classes
 
 dataset, results, visibility, stats = sys.argv[1:5]
+report = sys.argv[5] if len(sys.argv) > 5 else None
 
 def ply_vertices(path):
     with open(path, 'rb') as f:
@@ -66,6 +70,11 @@ for row in csv.DictReader(open(results)):
     key = (int(row['scene_id']), int(row['im_id']), int(row['obj_id']))
     est[key] = ([float(x) for x in row['R'].split()], [float(x) for x in row['t'].split()])
 
+vsd_share = {}
+if report:
+    for e in json.load(open(report))['estimates']:
+        vsd_share[(e['scene_id'], e['im_id'], e['obj_id'])] = e['vsd_share']
+
 ambiguous = {(a['scene_id'], a['im_id'], a['obj_id']) for a in json.load(open(stats)).get('ambiguous_poses', [])}
 
 table = {}
@@ -78,11 +87,14 @@ for line in open(visibility):
         add = sum(math.dist(apply(Re, te, x), apply(Rg, tg, x)) for x in points(key[2])) / len(points(key[2]))
         right = add <= 0.1 * info[str(key[2])]['diameter']
     for k in part_classes(v):
-        s = table.setdefault((key[2], k), [0, 0, 0])
+        s = table.setdefault((key[2], k), [0, 0, 0, 0.0])
         s[0] += 1
         s[1] += right
         s[2] += key in ambiguous
+        s[3] += vsd_share.get(key, 0.0)
 
-print('%-6s %-13s %6s %14s %14s' % ('object', 'part', 'boxes', 'ADD-0.1d', 'ambiguous'))
-for (obj, kind), (n, right, amb) in sorted(table.items()):
-    print('%-6d %-13s %6d %7d (%.3f) %7d (%.3f)' % (obj, kind, n, right, right / n, amb, amb / n))
+print('%-6s %-13s %6s %14s %14s' % ('object', 'part', 'boxes', 'ADD-0.1d', 'ambiguous') +
+      (' %7s' % 'AR_VSD' if report else ''))
+for (obj, kind), (n, right, amb, vsd) in sorted(table.items()):
+    print('%-6d %-13s %6d %7d (%.3f) %7d (%.3f)' % (obj, kind, n, right, right / n, amb, amb / n) +
+          (' %7.3f' % (vsd / n) if report else ''))

@@ -1,11 +1,17 @@
 // SPDX-License-Identifier: MIT
 #include "core/eval/eval_dataset.h"
 
+#include <atomic>
 #include <cmath>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <set>
 #include <string>
+#include <thread>
 #include <tuple>
+
+#include "core/eval/visible_surface.h"
 
 namespace ihf {
 
@@ -18,6 +24,103 @@ std::string rowName(const std::filesystem::path &file, size_t index, const Resul
 	return file.string() + ": data row " + std::to_string(index + 1) + " (scene_id " +
 	       std::to_string(row.sceneId) + ", im_id " + std::to_string(row.imId) +
 	       ", obj_id " + std::to_string(row.objId) + ")";
+}
+
+using ImageKey = std::pair<int, int>; // scene, image
+
+// e_VSD of every estimate against every instance of its object in its
+// image, one image at a time (its depth read once), images shared out over
+// the cores.
+Expected<VsdErrors> scoreVisibleSurfaces(const BopDataset &dataset,
+					 const std::map<ImageKey, SceneCamera> &cameras,
+					 const std::vector<EvalGt> &gts,
+					 const std::vector<ResultRow> &estimates)
+{
+	VsdErrors vsd;
+	vsd.tauShares = vsdTauShares();
+	vsd.thetas = vsdThetas();
+
+	struct ImageWork {
+		ImageKey image;
+		std::vector<std::pair<size_t, size_t>> pairs; // estimate, instance
+	};
+	std::map<ImageKey, ImageWork> byImage;
+	std::map<std::tuple<int, int, int>, std::vector<size_t>> gtsOf;
+	for (size_t g = 0; g < gts.size(); ++g)
+		gtsOf[{gts[g].sceneId, gts[g].imId, gts[g].objId}].push_back(g);
+	std::set<int> objectIds;
+	for (size_t e = 0; e < estimates.size(); ++e) {
+		const ResultRow &row = estimates[e];
+		auto it = gtsOf.find({row.sceneId, row.imId, row.objId});
+		if (it == gtsOf.end())
+			continue;
+		if (!cameras.count({row.sceneId, row.imId}))
+			return makeError(Errc::kNotFound,
+					 (dataset.sceneDir(row.sceneId) / "scene_camera.json").string() +
+						 ": no entry for image " + std::to_string(row.imId));
+		ImageWork &work = byImage[{row.sceneId, row.imId}];
+		work.image = {row.sceneId, row.imId};
+		for (size_t g : it->second)
+			work.pairs.push_back({e, g});
+		objectIds.insert(row.objId);
+	}
+
+	std::map<int, Mesh> meshes;
+	for (int id : objectIds) {
+		Expected<Mesh> mesh = dataset.loadModel(id);
+		if (!mesh)
+			return mesh.error();
+		meshes[id] = std::move(*mesh);
+	}
+
+	std::vector<const ImageWork *> work;
+	for (const auto &[key, w] : byImage)
+		work.push_back(&w);
+	std::atomic<size_t> next{0};
+	std::mutex lock;
+	std::optional<Error> failure;
+	auto run = [&] {
+		std::map<int, std::unique_ptr<VisibleSurfaceScorer>> scorers;
+		for (size_t i = next++; i < work.size(); i = next++) {
+			const auto [sceneId, imId] = work[i]->image;
+			const SceneCamera &camera = cameras.at(work[i]->image);
+			Expected<DepthImageMm> depth = dataset.loadDepthMm(sceneId, imId, camera.depthScale);
+			if (!depth) {
+				std::lock_guard guard(lock);
+				failure = depth.error();
+				return;
+			}
+			for (const auto &[e, g] : work[i]->pairs) {
+				const int objId = estimates[e].objId;
+				std::unique_ptr<VisibleSurfaceScorer> &scorer = scorers[objId];
+				if (!scorer)
+					scorer = std::make_unique<VisibleSurfaceScorer>(meshes.at(objId));
+				std::vector<double> taus;
+				for (double share : vsd.tauShares)
+					taus.push_back(share * dataset.modelsInfo().at(objId).diameter);
+				Expected<std::vector<double>> errors = scorer->errors(
+					estimates[e].pose, gts[g].pose, depth->view(), camera.intrinsics, taus);
+				std::lock_guard guard(lock);
+				if (!errors) {
+					failure = makeError(errors.error().code,
+							    dataset.depthPath(sceneId, imId).string() + ": " +
+								    errors.error().message);
+					return;
+				}
+				vsd.errors[{e, g}] = std::move(*errors);
+			}
+		}
+	};
+	const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+	std::vector<std::thread> threads;
+	for (size_t t = 1; t < std::min<size_t>(cores, work.size()); ++t)
+		threads.emplace_back(run);
+	run();
+	for (std::thread &t : threads)
+		t.join();
+	if (failure)
+		return *failure;
+	return vsd;
 }
 
 } // namespace
@@ -100,12 +203,15 @@ Expected<EvalReport> evaluateOnDataset(const BopDataset &dataset,
 	// Ground truth of the split; also the set of its images.
 	std::vector<EvalGt> gts;
 	std::set<std::pair<int, int>> images;
+	std::map<ImageKey, SceneCamera> cameras;
 	for (int sceneId : dataset.sceneIds()) {
 		Expected<BopScene> scene = dataset.loadScene(sceneId);
 		if (!scene)
 			return scene.error();
-		for (const auto &[imId, cam] : scene->cameras)
+		for (const auto &[imId, cam] : scene->cameras) {
 			images.insert({sceneId, imId});
+			cameras[{sceneId, imId}] = cam;
+		}
 		for (const auto &[imId, instances] : scene->gt) {
 			images.insert({sceneId, imId});
 			for (const GtInstance &inst : instances) {
@@ -158,7 +264,15 @@ Expected<EvalReport> evaluateOnDataset(const BopDataset &dataset,
 	Expected<EvalModels> models = loadEvalModels(dataset, objectIds);
 	if (!models)
 		return models.error();
-	EvalReport report = evaluatePoses(models->objects, gts, estimates, request.zValues);
+	std::optional<VsdErrors> vsd;
+	if (request.visibleSurface) {
+		Expected<VsdErrors> scored = scoreVisibleSurfaces(dataset, cameras, gts, estimates);
+		if (!scored)
+			return scored.error();
+		vsd = std::move(*scored);
+	}
+	EvalReport report = evaluatePoses(models->objects, gts, estimates, request.zValues,
+					  vsd ? &*vsd : nullptr);
 	report.numIgnored = ignored;
 	return report;
 }

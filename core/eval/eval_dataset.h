@@ -14,6 +14,10 @@
 // - Estimates: the results rows of evaluated objects; with `targets`, rows
 //   of other triples are ignored (counted in numIgnored), as BOP does.
 //   A row naming an image that is not in the split is an error.
+// - Visible surface (request.visibleSurface): e_VSD of every estimate
+//   against every instance of its object in its image, from the image's
+//   depth (SPLIT/SCENE/depth/IM.png, which must be there) and camera
+//   (scene_camera.json), for AR_VSD (evaluation.h, visible_surface.h).
 
 #include <filesystem>
 #include <map>
@@ -34,6 +38,7 @@ struct EvalRequest {
 	std::filesystem::path resultsFile;  // named in messages
 	std::filesystem::path targetsFile;  // named in messages
 	std::vector<double> zValues = defaultZValues();
+	bool visibleSurface = false; // also AR_VSD (reads the depth images)
 };
 
 // The scoring of each object: its diameter (models_info.json, which must

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/dataset/atomic_file.h"
+#include "core/eval/visible_surface.h"
 
 namespace ihf {
 
@@ -57,19 +58,25 @@ std::string evalReportJson(const EvalReport &report)
 			{"recall_0.1d", r.recall},
 			{"median_time", timeJson(r.medianTime)},
 		};
+		if (r.arVsd >= 0)
+			o["ar_vsd"] = r.arVsd;
 		if (zi >= 0)
 			o["pr_curve_z0.10"] = curveJson(r.curves[static_cast<size_t>(zi)]);
 		objects.push_back(std::move(o));
 	}
 
 	json estimates = json::array();
-	for (const EstimateOutcome &e : report.estimates)
-		estimates.push_back({{"scene_id", e.sceneId},
-				     {"im_id", e.imId},
-				     {"obj_id", e.objId},
-				     {"score", e.score},
-				     {"matched", e.matched},
-				     {"error_mm", e.matched ? json(e.error) : json(nullptr)}});
+	for (const EstimateOutcome &e : report.estimates) {
+		json row = {{"scene_id", e.sceneId},
+			    {"im_id", e.imId},
+			    {"obj_id", e.objId},
+			    {"score", e.score},
+			    {"matched", e.matched},
+			    {"error_mm", e.matched ? json(e.error) : json(nullptr)}};
+		if (e.vsdShare >= 0)
+			row["vsd_share"] = e.vsdShare;
+		estimates.push_back(std::move(row));
+	}
 
 	json doc = {
 		{"z_values", report.zValues},
@@ -87,6 +94,10 @@ std::string evalReportJson(const EvalReport &report)
 			 {"num_ignored", report.numIgnored},
 		 }},
 	};
+	if (report.meanArVsd >= 0) {
+		doc["mean"]["ar_vsd"] = report.meanArVsd;
+		doc["vsd"] = {{"delta_mm", kVsdDeltaMm}, {"tau_shares", vsdTauShares()}, {"thetas", vsdThetas()}};
+	}
 	return doc.dump(2) + "\n";
 }
 

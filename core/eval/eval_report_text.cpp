@@ -117,7 +117,11 @@ std::string formatEvalTable(const EvalReport &report)
 	appendf(out, "%4s %-6s %8s %5s %5s", "obj", "metric", "diam/mm", "#gt", "#est");
 	for (double z : report.zValues)
 		appendf(out, " %5.2f", z);
-	appendf(out, " %7s %7s %9s\n", "meanF1", "rec0.1d", "t_med/s");
+	appendf(out, " %7s %7s", "meanF1", "rec0.1d");
+	const bool vsd = report.meanArVsd >= 0;
+	if (vsd)
+		appendf(out, " %7s", "AR_VSD");
+	appendf(out, " %9s\n", "t_med/s");
 
 	for (const ObjectEvalResult &r : report.objects) {
 		appendf(out, "%4d %-6s %8.2f %5zu %5zu", r.objId, poseMetricName(r.metric),
@@ -125,6 +129,8 @@ std::string formatEvalTable(const EvalReport &report)
 		for (double f : r.f1)
 			appendf(out, " %5.3f", f);
 		appendf(out, " %7.4f %7.4f", r.meanF1, r.recall);
+		if (vsd)
+			appendf(out, " %7.4f", r.arVsd);
 		appendTime(out, r.medianTime);
 		out += '\n';
 	}
@@ -133,6 +139,8 @@ std::string formatEvalTable(const EvalReport &report)
 	for (double f : report.meanF1PerZ)
 		appendf(out, " %5.3f", f);
 	appendf(out, " %7.4f %7.4f", report.meanF1, report.meanRecall);
+	if (vsd)
+		appendf(out, " %7.4f", report.meanArVsd);
 	appendTime(out, report.medianTime);
 	out += '\n';
 	if (report.numIgnored)

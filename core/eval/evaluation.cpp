@@ -86,6 +86,37 @@ void matchGroups(std::vector<Group> &groups, const std::map<int, EvalObject> &ob
 	}
 }
 
+// Per estimate of the group, the share of the (tau, theta) pairs at which it
+// is correct by the visible surface: matched again for each tau on e_VSD.
+std::vector<double> visibleSurfaceShares(const Group &g, const std::vector<ResultRow> &estimates,
+					 const VsdErrors &vsd)
+{
+	std::vector<double> scores;
+	for (size_t e : g.estimates)
+		scores.push_back(estimates[e].score);
+	std::vector<int> correct(g.estimates.size(), 0); // (tau, theta) pairs
+	for (size_t tau = 0; tau < vsd.tauShares.size(); ++tau) {
+		Eigen::MatrixXd errors(static_cast<Eigen::Index>(g.estimates.size()),
+				       static_cast<Eigen::Index>(g.gts.size()));
+		for (size_t e = 0; e < g.estimates.size(); ++e)
+			for (size_t k = 0; k < g.gts.size(); ++k)
+				errors(static_cast<Eigen::Index>(e), static_cast<Eigen::Index>(k)) =
+					vsd.errors.at({g.estimates[e], g.gts[k]})[tau];
+		const MatchResult match = matchGreedy(scores, errors);
+		for (size_t e = 0; e < g.estimates.size(); ++e) {
+			if (match.gtOfEstimate[e] < 0)
+				continue;
+			for (double theta : vsd.thetas)
+				correct[e] += match.estimateError[e] < theta;
+		}
+	}
+	const double pairs = static_cast<double>(vsd.tauShares.size() * vsd.thetas.size());
+	std::vector<double> shares;
+	for (int c : correct)
+		shares.push_back(c / pairs);
+	return shares;
+}
+
 // Largest known time per image (rows of one image should agree).
 void addImageTime(std::map<ImageKey, double> &times, const ResultRow &row)
 {
@@ -107,7 +138,8 @@ std::vector<double> timeValues(const std::map<ImageKey, double> &times)
 EvalReport evaluatePoses(const std::map<int, EvalObject> &objects,
 			 const std::vector<EvalGt> &gts,
 			 const std::vector<ResultRow> &estimates,
-			 const std::vector<double> &zValues)
+			 const std::vector<double> &zValues,
+			 const VsdErrors *vsd)
 {
 	std::map<GroupKey, Group> byKey;
 	for (size_t i = 0; i < gts.size(); ++i) {
@@ -138,6 +170,7 @@ EvalReport evaluatePoses(const std::map<int, EvalObject> &objects,
 		std::vector<ScoredOutcome> outcomes;
 		size_t numGt = 0;
 		size_t numMatched = 0;
+		double vsdCorrect = 0; // sum of the estimates' shares
 		std::map<ImageKey, double> times;
 	};
 	std::map<int, Acc> acc;
@@ -146,6 +179,8 @@ EvalReport evaluatePoses(const std::map<int, EvalObject> &objects,
 	for (const Group &g : groups) {
 		Acc &a = acc[g.objId];
 		a.numGt += g.gts.size();
+		const std::vector<double> shares =
+			vsd ? visibleSurfaceShares(g, estimates, *vsd) : std::vector<double>(g.estimates.size(), -1.0);
 		for (size_t e = 0; e < g.estimates.size(); ++e) {
 			const ResultRow &row = estimates[g.estimates[e]];
 			a.outcomes.push_back({row.score, g.match.estimateError[e]});
@@ -153,7 +188,9 @@ EvalReport evaluatePoses(const std::map<int, EvalObject> &objects,
 			if (matched)
 				++a.numMatched;
 			perEstimate.push_back({row.sceneId, row.imId, row.objId, row.score, matched,
-					       matched ? g.match.estimateError[e] : 0.0});
+					       matched ? g.match.estimateError[e] : 0.0, shares[e]});
+			if (vsd)
+				a.vsdCorrect += shares[e];
 			addImageTime(a.times, row);
 			addImageTime(allTimes, row);
 		}
@@ -183,15 +220,21 @@ EvalReport evaluatePoses(const std::map<int, EvalObject> &objects,
 			r.meanF1 /= static_cast<double>(r.f1.size());
 		r.recall = recallAt(a.outcomes, a.numGt, kRecallZ * object.diameter);
 		r.medianTime = medianKnown(timeValues(a.times));
+		if (vsd)
+			r.arVsd = a.numGt ? a.vsdCorrect / static_cast<double>(a.numGt) : 0.0;
 		report.objects.push_back(std::move(r));
 	}
 
 	const size_t n = report.objects.size();
+	if (vsd)
+		report.meanArVsd = 0;
 	for (const ObjectEvalResult &r : report.objects) {
 		for (size_t z = 0; z < zValues.size(); ++z)
 			report.meanF1PerZ[z] += r.f1[z] / static_cast<double>(n);
 		report.meanF1 += r.meanF1 / static_cast<double>(n);
 		report.meanRecall += r.recall / static_cast<double>(n);
+		if (vsd)
+			report.meanArVsd += r.arVsd / static_cast<double>(n);
 		report.numGt += r.numGt;
 		report.numEstimates += r.numEstimates;
 	}

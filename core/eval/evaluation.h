@@ -26,8 +26,14 @@
 // - Time: median over distinct images (scene, image) of the results' `time`
 //   column, negative values (unknown) left out; if the rows of one image
 //   disagree the largest is used. -1 when no image has a time.
-// - Overall: the plain mean over objects of F1(z), mean F1 and recall;
-//   counts are summed and the median time is over all distinct images.
+// - Visible surface (when the caller hands in e_VSD, visible_surface.h):
+//   for each tau the estimates of a (scene, image, object) are matched
+//   again, greedily on e_VSD, and one is correct at (tau, theta) iff its
+//   e_VSD < theta; AR_VSD = the recall averaged over the (tau, theta)
+//   pairs, whatever the scores, as BOP reports it.
+// - Overall: the plain mean over objects of F1(z), mean F1, recall and
+//   AR_VSD; counts are summed and the median time is over all distinct
+//   images.
 
 #include <map>
 #include <vector>
@@ -65,6 +71,7 @@ struct ObjectEvalResult {
 	double meanF1 = 0;
 	double recall = 0; // at kRecallZ
 	double medianTime = -1; // seconds, -1 if unknown
+	double arVsd = -1; // -1 when not scored
 	std::vector<std::vector<PrPoint>> curves; // per z value
 };
 
@@ -76,6 +83,19 @@ struct EstimateOutcome {
 	double score = 0;
 	bool matched = false;
 	double error = 0; // mm (ADD or ADI), meaningful when matched
+	// Share of the (tau, theta) pairs at which it is correct by the visible
+	// surface; -1 when not scored.
+	double vsdShare = -1;
+};
+
+// e_VSD of estimates against instances, for each of `tauShares` (of the
+// diameter), keyed by (estimate index, instance index) into the vectors
+// handed to evaluatePoses(). Every pair of the same scene, image and object
+// must be there. Filled by the dataset layer, which has the depth images.
+struct VsdErrors {
+	std::vector<double> tauShares;
+	std::vector<double> thetas;
+	std::map<std::pair<size_t, size_t>, std::vector<double>> errors;
 };
 
 struct EvalReport {
@@ -86,6 +106,7 @@ struct EvalReport {
 	double meanF1 = 0;
 	double meanRecall = 0;
 	double medianTime = -1;
+	double meanArVsd = -1; // -1 when not scored
 	size_t numGt = 0;
 	size_t numEstimates = 0;
 	size_t numIgnored = 0; // estimates outside the evaluated set (dataset layer)
@@ -94,11 +115,12 @@ struct EvalReport {
 
 // Scores `estimates` against `gts` for every object in `objects` (also those
 // without any ground truth or estimate). Rows of other objects are ignored.
-// Scores must be finite (the dataset layer checks).
+// Scores must be finite (the dataset layer checks). With vsd, AR_VSD too.
 EvalReport evaluatePoses(const std::map<int, EvalObject> &objects,
 			 const std::vector<EvalGt> &gts,
 			 const std::vector<ResultRow> &estimates,
-			 const std::vector<double> &zValues = defaultZValues());
+			 const std::vector<double> &zValues = defaultZValues(),
+			 const VsdErrors *vsd = nullptr);
 
 // Median of the non-negative values, -1 if there are none.
 double medianKnown(std::vector<double> values);

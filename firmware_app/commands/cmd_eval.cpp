@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // `ihf eval`: scores a BOP results CSV against a dataset split's ground
 // truth (F1 over z = 0.05..0.15 of the diameter, ADD for plain objects and
-// ADI for symmetric ones; see core/eval/evaluation.h), prints a table and
+// ADI for symmetric ones, and with --vsd BOP's visible surface discrepancy;
+// see core/eval/evaluation.h), prints a table and
 // optionally writes JSON and a precision-recall plot. With --run-poses it
 // says instead how close each pose line of `ihf run` on a recording of the
 // dataset came to the truth (core/eval/run_pose_check.h); wrong poses are
@@ -37,6 +38,7 @@ struct EvalOptions {
 	std::string targets;
 	std::string json;
 	std::string plot;
+	bool visibleSurface = false;
 };
 
 int fail(const std::string &message)
@@ -64,6 +66,7 @@ int runEval(const EvalOptions &opt)
 	EvalRequest request;
 	request.objects = opt.objects;
 	request.resultsFile = opt.results;
+	request.visibleSurface = opt.visibleSurface;
 	if (!opt.targets.empty()) {
 		Expected<std::vector<Detection>> targets = readDetections(opt.targets);
 		if (!targets)
@@ -172,7 +175,11 @@ void addEvalCommand(CLI::App &root, Action &action)
 					"BOP detection list: only ground truth of images/objects with a box counts");
 	auto *json = cmd->add_option("--json", opt->json, "write the full report (and PR curves at z=0.10) as JSON");
 	auto *plot = cmd->add_option("--plot", opt->plot, "draw precision-recall curves to this PNG");
-	for (CLI::Option *resultsOnly : {objects, targets, json, plot})
+	auto *vsd = cmd->add_flag(
+		"--vsd", opt->visibleSurface,
+		"also score the visible surface (BOP's VSD, average recall AR_VSD): the surface the "
+		"depth shows, not the hidden parts; reads the split's depth images");
+	for (CLI::Option *resultsOnly : {objects, targets, json, plot, vsd})
 		resultsOnly->excludes(runPoses);
 	cmd->callback([&action, opt, results, runPoses] {
 		if (!*results && !*runPoses)

@@ -202,6 +202,53 @@ TEST(EvalCli, ObjectsAndTargetsSelectTheGroundTruth)
 	EXPECT_DOUBLE_EQ(doc["mean"]["mean_f1"].get<double>(), 2.0 / 8.0);
 }
 
+TEST(EvalCli, VisibleSurfaceScoresTheTruthOneAndNeedsTheDepth)
+{
+	const fs::path dir = test::freshTempDir("eval_cli_vsd");
+	auto info = readModelsInfo(test::lmoDir() / "models" / "models_info.json");
+	ASSERT_TRUE(info.ok());
+	std::vector<ResultRow> rows = groundTruthRows();
+	for (ResultRow &r : rows)
+		if (r.objId == 1) // beside the truth: no visible pixel shared
+			r.pose.t.x() += 1.5 * info->at(1).diameter;
+	ASSERT_TRUE(writeResultsCsv(dir / "rows.csv", rows).ok());
+
+	auto res = test::runIhf(evalArgs(dir / "rows.csv") + " --vsd --json " + q(dir / "report.json"));
+	ASSERT_EQ(res.exitCode, 0) << res.output;
+	EXPECT_NE(res.output.find("AR_VSD"), std::string::npos) << res.output;
+	const json doc = readJson(dir / "report.json");
+	for (int id : kObjects)
+		EXPECT_NEAR(objectEntry(doc, id)["ar_vsd"].get<double>(), id == 1 ? 0.0 : 1.0, 1e-12)
+			<< "object " << id;
+	EXPECT_NEAR(doc["mean"]["ar_vsd"].get<double>(), 7.0 / 8.0, 1e-12);
+	EXPECT_EQ(doc["vsd"]["delta_mm"].get<double>(), 15.0);
+	for (const json &e : doc["estimates"])
+		EXPECT_NEAR(e["vsd_share"].get<double>(), e["obj_id"] == 1 ? 0.0 : 1.0, 1e-12);
+
+	// Without --vsd nothing of it is reported.
+	res = test::runIhf(evalArgs(dir / "rows.csv") + " --json " + q(dir / "plain.json"));
+	ASSERT_EQ(res.exitCode, 0) << res.output;
+	EXPECT_EQ(res.output.find("AR_VSD"), std::string::npos) << res.output;
+	const json plain = readJson(dir / "plain.json");
+	EXPECT_FALSE(plain.contains("vsd"));
+	EXPECT_FALSE(plain["mean"].contains("ar_vsd"));
+	EXPECT_FALSE(objectEntry(plain, 5).contains("ar_vsd"));
+
+	// A split without its depth images: the missing image is named.
+	const fs::path ds = dir / "ds";
+	fs::create_directories(ds / "test" / "000002");
+	fs::copy_file(test::lmoDir() / "camera.json", ds / "camera.json");
+	fs::create_directory_symlink(test::lmoDir() / "models", ds / "models");
+	for (const char *file : {"scene_camera.json", "scene_gt.json"})
+		fs::copy_file(test::lmoDir() / "test" / "000002" / file, ds / "test" / "000002" / file);
+	res = test::runIhf("eval --dataset " + q(ds) + " --results " + q(dir / "rows.csv") + " --vsd");
+	EXPECT_EQ(res.exitCode, 1) << res.output;
+	EXPECT_NE(res.output.find((ds / "test" / "000002" / "depth").string()), std::string::npos) << res.output;
+	// The same split scores without --vsd.
+	res = test::runIhf("eval --dataset " + q(ds) + " --results " + q(dir / "rows.csv"));
+	EXPECT_EQ(res.exitCode, 0) << res.output;
+}
+
 // Runs eval expecting exit 1, a message containing every `needles`, and no
 // JSON output left behind.
 void expectFailure(const std::string &args, const fs::path &dir,

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "core/eval/evaluation.h"
+#include "core/eval/visible_surface.h"
 
 namespace ihf {
 namespace {
@@ -194,6 +195,45 @@ TEST(Evaluation, SymmetricObjectUsesAdiAndMeansAverageObjects)
 	EXPECT_EQ(r.numGt, 2u);
 	EXPECT_EQ(r.numEstimates, 2u);
 	EXPECT_DOUBLE_EQ(r.medianTime, 0.25);
+}
+
+TEST(Evaluation, VisibleSurfaceRecallAveragesTheThresholdPairs)
+{
+	ObjectPoseError error(boxPoints(), PoseMetric::kAdd);
+	const std::map<int, EvalObject> objects = {{3, {100.0, &error}}};
+	const std::vector<EvalGt> gts = {{1, 1, 3, poseAt(0, 0, 700)},
+					 {1, 1, 3, poseAt(200, 0, 700)},
+					 {1, 2, 3, poseAt(0, 0, 700)}};
+	const std::vector<ResultRow> estimates = {row(1, 3, 0.9, poseAt(0, 0, 700)),
+						  row(1, 3, 0.8, poseAt(200, 0, 700)),
+						  row(2, 3, 0.5, poseAt(0, 0, 700)),
+						  row(3, 3, 0.4, poseAt(0, 0, 700))};
+	VsdErrors vsd;
+	vsd.tauShares = vsdTauShares();
+	vsd.thetas = vsdThetas();
+	const std::vector<double> steps = {1, 1, 1, 1, 1, 0, 0, 0, 0, 0};
+	vsd.errors[{0, 0}] = std::vector<double>(10, 0.12);
+	vsd.errors[{0, 1}] = std::vector<double>(10, 0.9);
+	vsd.errors[{1, 0}] = std::vector<double>(10, 0.01); // taken by the higher score
+	vsd.errors[{1, 1}] = std::vector<double>(10, 0.27);
+	vsd.errors[{2, 2}] = steps;
+
+	const EvalReport r = evaluatePoses(objects, gts, estimates, defaultZValues(), &vsd);
+	ASSERT_EQ(r.estimates.size(), 4u);
+	std::map<int, double> shareOfImage;
+	for (const EstimateOutcome &e : r.estimates)
+		shareOfImage[e.imId] += e.vsdShare;
+	EXPECT_NEAR(shareOfImage[1], 0.8 + 0.5, 1e-12); // theta > 0.12: 8 of 10; > 0.27: 5
+	EXPECT_NEAR(shareOfImage[2], 0.5, 1e-12);        // right at half the taus, every theta
+	EXPECT_EQ(shareOfImage[3], 0.0);                 // no truth in the image
+	ASSERT_EQ(r.objects.size(), 1u);
+	EXPECT_NEAR(r.objects[0].arVsd, (0.8 + 0.5 + 0.5) / 3, 1e-12);
+	EXPECT_NEAR(r.meanArVsd, (0.8 + 0.5 + 0.5) / 3, 1e-12);
+
+	const EvalReport without = evaluatePoses(objects, gts, estimates);
+	EXPECT_EQ(without.objects[0].arVsd, -1.0);
+	EXPECT_EQ(without.meanArVsd, -1.0);
+	EXPECT_EQ(without.estimates[0].vsdShare, -1.0);
 }
 
 TEST(Evaluation, ObjectWithoutDataAndMedian)
