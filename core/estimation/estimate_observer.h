@@ -51,6 +51,7 @@ struct ComparisonEvent {
 	bool distinct = false;   // far enough from the best to count in the verdict
 	bool reported = false;   // a turn the estimator itself reported (it may win; no verdict)
 	bool polished = false;   // the rival was polished before the comparison it kept
+	double score = -1;       // the polished rival's score (-1 when not polished)
 	PartEvidence evidence;   // A: the best, B: the rival
 	int minPixels = 0;       // the lead in pixels a verdict needed at least
 };

@@ -257,6 +257,7 @@ void SymmetryRivalSource::reportComparisons(const ProposalBox &box, const char *
 		e.distinct = t.distinct;
 		e.reported = t.reported;
 		e.polished = t.polished.valid;
+		e.score = t.polished.valid ? t.polished.score.score : -1;
 		e.evidence = t.evidence;
 		e.minPixels = minPixels;
 		box.pool.reportComparison(e);

@@ -119,10 +119,13 @@ void EstimateTrace::onComparison(const ComparisonEvent &e)
 	writePose(e.rival);
 	std::fprintf(f_,
 		     ",\"axis\":[%.4f,%.4f,%.4f],\"distinct\":%s,\"reported\":%s,\"polished\":%s,\"differing\":%d,"
-		     "\"informative\":%d,\"for_best\":%d,\"for_rival\":%d,\"min_pixels\":%d}\n",
+		     "\"informative\":%d,\"for_best\":%d,\"for_rival\":%d,\"min_pixels\":%d",
 		     e.axis.x(), e.axis.y(), e.axis.z(), e.distinct ? "true" : "false", e.reported ? "true" : "false",
 		     e.polished ? "true" : "false", e.evidence.differing, e.evidence.informative, e.evidence.forA,
 		     e.evidence.forB, e.minPixels);
+	if (e.polished)
+		std::fprintf(f_, ",\"score\":%.4f", e.score);
+	std::fputs("}\n", f_);
 }
 
 void EstimateTrace::writeString(const std::string &text)

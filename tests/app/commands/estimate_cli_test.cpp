@@ -338,6 +338,12 @@ TEST_F(EstimateCli, TheTraceListsTheTurnsComparedForANearlySymmetricObject)
 		EXPECT_EQ(forBest + forRival, informative) << line;
 		EXPECT_LE(informative, j["differing"].get<int>()) << line;
 		EXPECT_GT(j["min_pixels"].get<int>(), 0) << line;
+		// A polished rival carries the score the polish gave it.
+		ASSERT_EQ(j.contains("score"), j["polished"].get<bool>()) << line;
+		if (j.contains("score")) {
+			EXPECT_GT(j["score"].get<double>(), 0.0) << line;
+			EXPECT_LE(j["score"].get<double>(), 1.0) << line;
+		}
 		if (kind == "turn") {
 			++turns;
 			EXPECT_GT(std::abs(j["axis"][2].get<double>()), 0.99) << "about the cup's axis: " << line;
