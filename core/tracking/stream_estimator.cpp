@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "core/estimation/rival_poses.h"
 #include "core/geometry/projected_extent.h"
 
 namespace ihf {
@@ -284,6 +285,22 @@ void StreamEstimator::carryAmbiguity(const Track &t, const EstimatorConfig &conf
 	e.confidence *= config.symmetryTurns.ambiguousConfidence;
 }
 
+// A refresh's detection told apart the turns the track's detection could
+// not, and agrees with the tracked pose: the track is no longer ambiguous,
+// and its pose, still the tracked one, has the confidence of a tracked pose
+// told apart.
+void StreamEstimator::settle(Track &t, const PoseEstimate &e, uint64_t frame, const EstimatorConfig &config,
+			     PoseEstimate &tracked)
+{
+	t.ambiguous = false;
+	t.ambiguityAxis = Eigen::Vector3d::Zero();
+	t.confidence = e.confidence;
+	t.detectedFrame = frame;
+	tracked.ambiguous = false;
+	tracked.ambiguityAxis = Eigen::Vector3d::Zero();
+	tracked.confidence = poseConfidence(tracked.score.score, tracked.margin, config.confidence);
+}
+
 void StreamEstimator::trackBox(size_t i, uint64_t frame, ImageView<const float> depth, const CameraIntrinsics &K,
 			       std::span<const StreamBox> boxes, const EstimatorConfig &config,
 			       std::span<StreamResult> results)
@@ -440,8 +457,17 @@ void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth
 		const int64_t ns = clock_.nowNs() - t0;
 		count(stats_.detectTime, ns);
 		++stats_.refreshed;
-		// A detection within rivalMargin of the tracked score is a tie,
-		// and a tie keeps the track (its polish is the finer).
+		// A detection that tells the turns apart, near a track whose own
+		// detection could not (the part has come into view), settles it:
+		// the tracked pose stands, told apart now.
+		if (e.found && t.ambiguous && !e.ambiguous &&
+		    withinStep(config_, e.pose, t.pose, t.model->params().diameter)) {
+			++stats_.refreshSettled;
+			settle(t, e, frame, config, r.estimate);
+			continue;
+		}
+		// Otherwise a detection within rivalMargin of the tracked score is
+		// a tie, and a tie keeps the track (its polish is the finer).
 		if (e.found && e.score.score > r.estimate.score.score + config_.rivalMargin) {
 			++stats_.refreshWins;
 			r.mode = BoxMode::kDetect;

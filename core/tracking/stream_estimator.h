@@ -71,6 +71,7 @@ struct TrackingStats {
 	uint64_t forced = 0;      // detections run though the frame had no room (due)
 	uint64_t refreshed = 0;   // tracked boxes detected again with the frame's spare time
 	uint64_t refreshWins = 0; // of those, the detection scored higher and replaced the track
+	uint64_t refreshSettled = 0; // of those, ambiguous tracks the detection told apart (their pose kept)
 	uint64_t duplicates = 0;
 	uint64_t skipped = 0;
 	uint64_t started = 0;     // tracks begun
@@ -126,6 +127,9 @@ private:
 	void place(Track &t, const PoseEstimate &e, uint64_t frame, bool fromTrack);
 	// e, a pose that follows t, flagged ambiguous as t's detection was.
 	static void carryAmbiguity(const Track &t, const EstimatorConfig &config, PoseEstimate &e);
+	// t was ambiguous; a refresh's detection e, near it, told the turns apart.
+	static void settle(Track &t, const PoseEstimate &e, uint64_t frame, const EstimatorConfig &config,
+			   PoseEstimate &tracked);
 	// The frame's time left for detections, less what detections have run
 	// past their share lately.
 	double usableMs() const;

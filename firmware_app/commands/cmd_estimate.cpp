@@ -176,9 +176,10 @@ void printTracking(const TrackingStats &t, const EstimateTally &tally, const std
 		     static_cast<unsigned long long>(t.frameOverruns), t.worstFrameNs * 1e-6);
 	std::fprintf(stderr,
 		     "ihf estimate: tracking: frames with boxes %zu, frame median %.1f ms p99 %.1f ms; "
-		     "refreshed %llu (%llu won), forced %llu, longest wait %d frames\n",
+		     "refreshed %llu (%llu won, %llu ambiguous told apart), forced %llu, longest wait %d frames\n",
 		     frameTimes.size(), 1e3 * percentile(frameTimes, 0.5), 1e3 * percentile(frameTimes, 0.99),
 		     static_cast<unsigned long long>(t.refreshed), static_cast<unsigned long long>(t.refreshWins),
+		     static_cast<unsigned long long>(t.refreshSettled),
 		     static_cast<unsigned long long>(t.forced), t.maxWait);
 	std::fprintf(stderr, "ihf estimate: tracked poses not kept:");
 	for (size_t v = 1; v < t.rejected.size(); ++v)

@@ -6,8 +6,9 @@
 // show the handle (the turns compared on a finer one); seen with the
 // handle hidden behind its body, the pose comes back flagged ambiguous
 // about the cup's axis, its confidence scaled down, and so does every pose
-// that tracks it in the frames after. The comparisons behind each verdict
-// reach the estimator's observer.
+// that tracks it in the frames after, until a frame's spare time detects
+// it again with the handle come into view. The comparisons behind each
+// verdict reach the estimator's observer.
 // The stage alone, given the cup upside down and slid along its axis as the
 // best, takes the truth among the reported poses unless its score lies far
 // below, and leaves a turn about the axis to the turns; a reported turn
@@ -39,6 +40,7 @@
 #include "core/training/near_symmetry_finder.h"
 #include "core/training/training_set.h"
 #include "core/training/view_template_builder.h"
+#include "tests/runtime/small_model.h"
 
 namespace ihf {
 namespace {
@@ -488,6 +490,72 @@ TEST_F(SymmetryTurns, TrackedHiddenHandleStaysAmbiguous)
 		EXPECT_LE(r.estimate.confidence, 0.5f * r.estimate.score.score + 1e-6f) << "frame " << f;
 	}
 	EXPECT_EQ(trackedFrames, 3);
+}
+
+TEST_F(SymmetryTurns, ATrackedAmbiguousCupIsToldApartOnceItsHandleShows)
+{
+	// The handle to the side, behind an occluder for the first frames, then
+	// in view; budgeted frames (a step clock) with time to detect the
+	// tracked box again. The track carries its detection's flag while the
+	// handle is hidden; the first detection that tells the turns apart
+	// settles it: the tracked pose is flagged no more and is as confident
+	// as any told apart.
+	const Pose gt = viewOfCup(60.0, 25.0);
+	DepthImageMm clear(640, 480, 0.0f);
+	const PixelBox box = scene(gt, clear);
+	DepthImageMm occluded = clear;
+	{
+		const Mesh body = makeCup(false);
+		DepthImageMm bodyDepth(640, 480, 0.0f), cupDepth(640, 480, 0.0f);
+		DepthRenderer renderer(model_->mesh().vertices.size());
+		ASSERT_TRUE(renderer.render(body, gt, kKinect, bodyDepth.view()).ok());
+		ASSERT_TRUE(renderer.render(model_->mesh(), gt, kKinect, cupDepth.view()).ok());
+		const int r = 4; // the occluder reaches a little past the handle
+		for (int y = 0; y < 480; ++y)
+			for (int x = 0; x < 640; ++x) {
+				const float c = cupDepth.at(x, y), b = bodyDepth.at(x, y);
+				if (!(c > 0 && (b <= 0 || c < b - 1.0f)))
+					continue;
+				for (int v = std::max(0, y - r); v <= std::min(479, y + r); ++v)
+					for (int u = std::max(0, x - r); u <= std::min(639, x + r); ++u)
+						occluded.at(u, v) = static_cast<float>(gt.t.z() - 150.0);
+			}
+	}
+
+	test::StepClock clock(1000000); // 1 ms a read
+	PoseEstimator detector({}, &clock);
+	TrackerConfig tc;
+	tc.detectMinMs = 20;
+	StreamEstimator stream(detector, tc, &clock);
+	ASSERT_TRUE(stream.valid());
+	const StreamBox sbox{31, box, 0, model_};
+	auto frame = [&](int f, const DepthImageMm &depth) {
+		StreamResult r;
+		stream.estimateFrame(static_cast<uint64_t>(f), depth.view(), kKinect, std::span<const StreamBox>(&sbox, 1),
+				     EstimatorConfig{}, 500.0f, std::span<StreamResult>(&r, 1));
+		EXPECT_TRUE(r.estimate.found) << "frame " << f << ": " << r.estimate.reason;
+		return r;
+	};
+
+	const StreamResult first = frame(0, occluded);
+	ASSERT_EQ(first.mode, BoxMode::kDetect);
+	ASSERT_TRUE(first.estimate.ambiguous) << "the occluder must hide the handle from the detection";
+	const StreamResult hidden = frame(1, occluded);
+	EXPECT_EQ(hidden.mode, BoxMode::kTrack);
+	EXPECT_EQ(stream.stats().refreshed, 1u);
+	EXPECT_TRUE(hidden.estimate.ambiguous) << "a detection that cannot tell the turns apart settles nothing";
+	EXPECT_EQ(stream.stats().refreshSettled, 0u);
+
+	const StreamResult shown = frame(2, clear);
+	EXPECT_EQ(stream.stats().refreshed, 2u);
+	EXPECT_EQ(stream.stats().refreshSettled, 1u);
+	EXPECT_FALSE(shown.estimate.ambiguous);
+	EXPECT_LT(handleAngleDeg(shown.estimate.pose, gt), 15.0);
+	EXPECT_LT(addError(shown.estimate.pose, gt, model_->mesh().vertices), 0.1 * model_->params().diameter);
+	EXPECT_GT(shown.estimate.confidence, 0.5f * shown.estimate.score.score);
+	// And so it stays while it is tracked.
+	const StreamResult after = frame(3, clear);
+	EXPECT_FALSE(after.estimate.ambiguous);
 }
 
 } // namespace
