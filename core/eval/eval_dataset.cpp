@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/eval/eval_dataset.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <memory>
@@ -26,29 +27,26 @@ std::string rowName(const std::filesystem::path &file, size_t index, const Resul
 	       ", obj_id " + std::to_string(row.objId) + ")";
 }
 
-using ImageKey = std::pair<int, int>; // scene, image
+using ImageKey = std::pair<int, int>;        // scene, image
+using PairKey = std::pair<size_t, size_t>;    // estimate, instance
 
-// e_VSD of every estimate against every instance of its object in its
-// image, one image at a time (its depth read once), images shared out over
-// the cores.
-Expected<VsdErrors> scoreVisibleSurfaces(const BopDataset &dataset,
-					 const std::map<ImageKey, SceneCamera> &cameras,
-					 const std::vector<EvalGt> &gts,
-					 const std::vector<ResultRow> &estimates)
+// The pairs of one image whose visible surfaces are compared.
+struct ImageWork {
+	ImageKey image;
+	std::vector<PairKey> pairs;
+};
+
+// Every estimate with every instance of its object in its image, image by
+// image.
+Expected<std::vector<ImageWork>> visibleSurfacePairs(const BopDataset &dataset,
+						     const std::map<ImageKey, SceneCamera> &cameras,
+						     const std::vector<EvalGt> &gts,
+						     const std::vector<ResultRow> &estimates)
 {
-	VsdErrors vsd;
-	vsd.tauShares = vsdTauShares();
-	vsd.thetas = vsdThetas();
-
-	struct ImageWork {
-		ImageKey image;
-		std::vector<std::pair<size_t, size_t>> pairs; // estimate, instance
-	};
-	std::map<ImageKey, ImageWork> byImage;
 	std::map<std::tuple<int, int, int>, std::vector<size_t>> gtsOf;
 	for (size_t g = 0; g < gts.size(); ++g)
 		gtsOf[{gts[g].sceneId, gts[g].imId, gts[g].objId}].push_back(g);
-	std::set<int> objectIds;
+	std::map<ImageKey, ImageWork> byImage;
 	for (size_t e = 0; e < estimates.size(); ++e) {
 		const ResultRow &row = estimates[e];
 		auto it = gtsOf.find({row.sceneId, row.imId, row.objId});
@@ -62,58 +60,94 @@ Expected<VsdErrors> scoreVisibleSurfaces(const BopDataset &dataset,
 		work.image = {row.sceneId, row.imId};
 		for (size_t g : it->second)
 			work.pairs.push_back({e, g});
-		objectIds.insert(row.objId);
 	}
+	std::vector<ImageWork> out;
+	for (auto &[key, work] : byImage)
+		out.push_back(std::move(work));
+	return out;
+}
 
-	std::map<int, Mesh> meshes;
-	for (int id : objectIds) {
-		Expected<Mesh> mesh = dataset.loadModel(id);
-		if (!mesh)
-			return mesh.error();
-		meshes[id] = std::move(*mesh);
+// What scoring an image needs of its objects: the model and tau in mm.
+struct VsdObject {
+	Mesh mesh;
+	std::vector<double> tausMm;
+};
+
+// e_VSD of one image's pairs, from its depth read once.
+Expected<std::vector<std::pair<PairKey, std::vector<double>>>>
+scoreImage(const BopDataset &dataset, const ImageWork &work, const SceneCamera &camera,
+	   const std::map<int, VsdObject> &objects, const std::vector<EvalGt> &gts,
+	   const std::vector<ResultRow> &estimates)
+{
+	const auto [sceneId, imId] = work.image;
+	Expected<DepthImageMm> depth = dataset.loadDepthMm(sceneId, imId, camera.depthScale);
+	if (!depth)
+		return depth.error();
+	std::map<int, std::unique_ptr<VisibleSurfaceScorer>> scorers;
+	std::vector<std::pair<PairKey, std::vector<double>>> out;
+	for (const auto &[e, g] : work.pairs) {
+		const int objId = estimates[e].objId;
+		const VsdObject &object = objects.at(objId);
+		std::unique_ptr<VisibleSurfaceScorer> &scorer = scorers[objId];
+		if (!scorer)
+			scorer = std::make_unique<VisibleSurfaceScorer>(object.mesh);
+		Expected<std::vector<double>> errors =
+			scorer->errors(estimates[e].pose, gts[g].pose, depth->view(), camera.intrinsics, object.tausMm);
+		if (!errors)
+			return makeError(errors.error().code,
+					 dataset.depthPath(sceneId, imId).string() + ": " + errors.error().message);
+		out.push_back({{e, g}, std::move(*errors)});
 	}
+	return out;
+}
 
-	std::vector<const ImageWork *> work;
-	for (const auto &[key, w] : byImage)
-		work.push_back(&w);
+// e_VSD of every estimate against every instance of its object in its
+// image, the images shared out over the cores.
+Expected<VsdErrors> scoreVisibleSurfaces(const BopDataset &dataset,
+					 const std::map<ImageKey, SceneCamera> &cameras,
+					 const std::vector<EvalGt> &gts,
+					 const std::vector<ResultRow> &estimates)
+{
+	Expected<std::vector<ImageWork>> work = visibleSurfacePairs(dataset, cameras, gts, estimates);
+	if (!work)
+		return work.error();
+	VsdErrors vsd;
+	vsd.tauShares = vsdTauShares();
+	vsd.thetas = vsdThetas();
+	std::map<int, VsdObject> objects;
+	for (const ImageWork &w : *work)
+		for (const auto &[e, g] : w.pairs) {
+			const int id = estimates[e].objId;
+			if (objects.count(id))
+				continue;
+			Expected<Mesh> mesh = dataset.loadModel(id);
+			if (!mesh)
+				return mesh.error();
+			VsdObject &object = objects[id];
+			object.mesh = std::move(*mesh);
+			for (double share : vsd.tauShares)
+				object.tausMm.push_back(share * dataset.modelsInfo().at(id).diameter);
+		}
+
 	std::atomic<size_t> next{0};
 	std::mutex lock;
 	std::optional<Error> failure;
 	auto run = [&] {
-		std::map<int, std::unique_ptr<VisibleSurfaceScorer>> scorers;
-		for (size_t i = next++; i < work.size(); i = next++) {
-			const auto [sceneId, imId] = work[i]->image;
-			const SceneCamera &camera = cameras.at(work[i]->image);
-			Expected<DepthImageMm> depth = dataset.loadDepthMm(sceneId, imId, camera.depthScale);
-			if (!depth) {
-				std::lock_guard guard(lock);
-				failure = depth.error();
+		for (size_t i = next++; i < work->size(); i = next++) {
+			const ImageWork &w = (*work)[i];
+			auto scored = scoreImage(dataset, w, cameras.at(w.image), objects, gts, estimates);
+			std::lock_guard guard(lock);
+			if (!scored) {
+				failure = scored.error();
 				return;
 			}
-			for (const auto &[e, g] : work[i]->pairs) {
-				const int objId = estimates[e].objId;
-				std::unique_ptr<VisibleSurfaceScorer> &scorer = scorers[objId];
-				if (!scorer)
-					scorer = std::make_unique<VisibleSurfaceScorer>(meshes.at(objId));
-				std::vector<double> taus;
-				for (double share : vsd.tauShares)
-					taus.push_back(share * dataset.modelsInfo().at(objId).diameter);
-				Expected<std::vector<double>> errors = scorer->errors(
-					estimates[e].pose, gts[g].pose, depth->view(), camera.intrinsics, taus);
-				std::lock_guard guard(lock);
-				if (!errors) {
-					failure = makeError(errors.error().code,
-							    dataset.depthPath(sceneId, imId).string() + ": " +
-								    errors.error().message);
-					return;
-				}
-				vsd.errors[{e, g}] = std::move(*errors);
-			}
+			for (auto &[key, errors] : *scored)
+				vsd.errors[key] = std::move(errors);
 		}
 	};
 	const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
 	std::vector<std::thread> threads;
-	for (size_t t = 1; t < std::min<size_t>(cores, work.size()); ++t)
+	for (size_t t = 1; t < std::min<size_t>(cores, work->size()); ++t)
 		threads.emplace_back(run);
 	run();
 	for (std::thread &t : threads)
