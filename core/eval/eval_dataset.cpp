@@ -1,18 +1,15 @@
 // SPDX-License-Identifier: MIT
 #include "core/eval/eval_dataset.h"
 
-#include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <set>
 #include <string>
-#include <thread>
 #include <tuple>
 
 #include "core/eval/visible_surface.h"
+#include "core/runtime/worker_pool.h"
 
 namespace ihf {
 
@@ -129,31 +126,26 @@ Expected<VsdErrors> scoreVisibleSurfaces(const BopDataset &dataset,
 				object.tausMm.push_back(share * dataset.modelsInfo().at(id).diameter);
 		}
 
-	std::atomic<size_t> next{0};
-	std::mutex lock;
-	std::optional<Error> failure;
-	auto run = [&] {
-		for (size_t i = next++; i < work->size(); i = next++) {
-			const ImageWork &w = (*work)[i];
-			auto scored = scoreImage(dataset, w, cameras.at(w.image), objects, gts, estimates);
-			std::lock_guard guard(lock);
-			if (!scored) {
-				failure = scored.error();
-				return;
-			}
-			for (auto &[key, errors] : *scored)
-				vsd.errors[key] = std::move(errors);
-		}
-	};
-	const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-	std::vector<std::thread> threads;
-	for (size_t t = 1; t < std::min<size_t>(cores, work->size()); ++t)
-		threads.emplace_back(run);
-	run();
-	for (std::thread &t : threads)
-		t.join();
-	if (failure)
-		return *failure;
+	// Each image's pairs scored on the pool's threads, the results and the
+	// first failure taken in image order.
+	std::vector<std::vector<std::pair<PairKey, std::vector<double>>>> scored(work->size());
+	std::vector<std::optional<Error>> failures(work->size());
+	WorkerPool pool(0);
+	pool.run(static_cast<int>(work->size()), [&](int i, int) {
+		const size_t k = static_cast<size_t>(i);
+		const ImageWork &w = (*work)[k];
+		auto image = scoreImage(dataset, w, cameras.at(w.image), objects, gts, estimates);
+		if (image)
+			scored[k] = std::move(*image);
+		else
+			failures[k] = image.error();
+	});
+	for (size_t k = 0; k < work->size(); ++k) {
+		if (failures[k])
+			return *failures[k];
+		for (auto &[key, errors] : scored[k])
+			vsd.errors[key] = std::move(errors);
+	}
 	return vsd;
 }
 

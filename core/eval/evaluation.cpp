@@ -2,11 +2,10 @@
 #include "core/eval/evaluation.h"
 
 #include <algorithm>
-#include <atomic>
-#include <thread>
 #include <tuple>
 
 #include "core/eval/matching.h"
+#include "core/runtime/worker_pool.h"
 
 namespace ihf {
 
@@ -59,24 +58,14 @@ void matchGroups(std::vector<Group> &groups, const std::map<int, EvalObject> &ob
 				pairs.push_back({i, e, k});
 	}
 
-	std::atomic<size_t> next{0};
-	auto work = [&] {
-		for (size_t i = next++; i < pairs.size(); i = next++) {
-			const Pair &p = pairs[i];
-			const Group &g = groups[p.group];
-			const ObjectPoseError &error = *objects.at(g.objId).error;
-			errors[p.group](static_cast<Eigen::Index>(p.e), static_cast<Eigen::Index>(p.g)) =
-				error(estimates[g.estimates[p.e]].pose, gts[g.gts[p.g]].pose);
-		}
-	};
-	const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-	const size_t numThreads = std::min<size_t>(cores, pairs.size());
-	std::vector<std::thread> threads;
-	for (size_t t = 1; t < numThreads; ++t)
-		threads.emplace_back(work);
-	work();
-	for (std::thread &t : threads)
-		t.join();
+	WorkerPool pool(0);
+	pool.run(static_cast<int>(pairs.size()), [&](int i, int) {
+		const Pair &p = pairs[static_cast<size_t>(i)];
+		const Group &g = groups[p.group];
+		const ObjectPoseError &error = *objects.at(g.objId).error;
+		errors[p.group](static_cast<Eigen::Index>(p.e), static_cast<Eigen::Index>(p.g)) =
+			error(estimates[g.estimates[p.e]].pose, gts[g.gts[p.g]].pose);
+	});
 
 	for (size_t i = 0; i < groups.size(); ++i) {
 		std::vector<double> scores;
