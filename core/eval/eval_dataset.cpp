@@ -66,7 +66,7 @@ Expected<std::vector<ImageWork>> visibleSurfacePairs(const BopDataset &dataset,
 
 // What scoring an image needs of its objects: the model and tau in mm.
 struct VsdObject {
-	Mesh mesh;
+	const Mesh *mesh = nullptr;
 	std::vector<double> tausMm;
 };
 
@@ -87,7 +87,7 @@ scoreImage(const BopDataset &dataset, const ImageWork &work, const SceneCamera &
 		const VsdObject &object = objects.at(objId);
 		std::unique_ptr<VisibleSurfaceScorer> &scorer = scorers[objId];
 		if (!scorer)
-			scorer = std::make_unique<VisibleSurfaceScorer>(object.mesh);
+			scorer = std::make_unique<VisibleSurfaceScorer>(*object.mesh);
 		Expected<std::vector<double>> errors =
 			scorer->errors(estimates[e].pose, gts[g].pose, depth->view(), camera.intrinsics, object.tausMm);
 		if (!errors)
@@ -102,6 +102,7 @@ scoreImage(const BopDataset &dataset, const ImageWork &work, const SceneCamera &
 // image, the images shared out over the cores.
 Expected<VsdErrors> scoreVisibleSurfaces(const BopDataset &dataset,
 					 const std::map<ImageKey, SceneCamera> &cameras,
+					 const std::map<int, Mesh> &meshes,
 					 const std::vector<EvalGt> &gts,
 					 const std::vector<ResultRow> &estimates)
 {
@@ -112,19 +113,12 @@ Expected<VsdErrors> scoreVisibleSurfaces(const BopDataset &dataset,
 	vsd.tauShares = vsdTauShares();
 	vsd.thetas = vsdThetas();
 	std::map<int, VsdObject> objects;
-	for (const ImageWork &w : *work)
-		for (const auto &[e, g] : w.pairs) {
-			const int id = estimates[e].objId;
-			if (objects.count(id))
-				continue;
-			Expected<Mesh> mesh = dataset.loadModel(id);
-			if (!mesh)
-				return mesh.error();
-			VsdObject &object = objects[id];
-			object.mesh = std::move(*mesh);
-			for (double share : vsd.tauShares)
-				object.tausMm.push_back(share * dataset.modelsInfo().at(id).diameter);
-		}
+	for (const auto &[id, mesh] : meshes) {
+		VsdObject &object = objects[id];
+		object.mesh = &mesh;
+		for (double share : vsd.tauShares)
+			object.tausMm.push_back(share * dataset.modelsInfo().at(id).diameter);
+	}
 
 	// Each image's pairs scored on the pool's threads, the results and the
 	// first failure taken in image order.
@@ -168,7 +162,7 @@ Status checkDiameters(const BopDataset &dataset, const std::set<int> &objectIds)
 	return {};
 }
 
-Expected<EvalModels> loadEvalModels(const BopDataset &dataset, const std::set<int> &objectIds)
+Expected<EvalModels> loadEvalModels(const BopDataset &dataset, const std::set<int> &objectIds, bool keepMeshes)
 {
 	if (Status s = checkDiameters(dataset, objectIds); !s)
 		return s.error();
@@ -182,9 +176,12 @@ Expected<EvalModels> loadEvalModels(const BopDataset &dataset, const std::set<in
 			return makeError(Errc::kCorrupt,
 					 dataset.modelPath(id).string() + ": model has no vertices");
 		const PoseMetric metric = info.at(id).symmetric() ? PoseMetric::kAdi : PoseMetric::kAdd;
-		auto error = std::make_unique<ObjectPoseError>(std::move(mesh->vertices), metric);
+		auto error = std::make_unique<ObjectPoseError>(
+			keepMeshes ? mesh->vertices : std::move(mesh->vertices), metric);
 		models.objects[id] = {info.at(id).diameter, error.get()};
 		models.errors[id] = std::move(error);
+		if (keepMeshes)
+			models.meshes[id] = std::move(*mesh);
 	}
 	return models;
 }
@@ -287,12 +284,12 @@ Expected<EvalReport> evaluateOnDataset(const BopDataset &dataset,
 		estimates.push_back(row);
 	}
 
-	Expected<EvalModels> models = loadEvalModels(dataset, objectIds);
+	Expected<EvalModels> models = loadEvalModels(dataset, objectIds, request.visibleSurface);
 	if (!models)
 		return models.error();
 	std::optional<VsdErrors> vsd;
 	if (request.visibleSurface) {
-		Expected<VsdErrors> scored = scoreVisibleSurfaces(dataset, cameras, gts, estimates);
+		Expected<VsdErrors> scored = scoreVisibleSurfaces(dataset, cameras, models->meshes, gts, estimates);
 		if (!scored)
 			return scored.error();
 		vsd = std::move(*scored);

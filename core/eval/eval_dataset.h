@@ -43,13 +43,16 @@ struct EvalRequest {
 
 // The scoring of each object: its diameter (models_info.json, which must
 // list it with a positive diameter) and its error function over every vertex
-// of its model, ADI when models_info.json lists symmetries, else ADD.
+// of its model, ADI when models_info.json lists symmetries, else ADD; with
+// keepMeshes also the meshes themselves (the visible surface renders them).
 struct EvalModels {
 	std::map<int, EvalObject> objects; // points into `errors`
 	std::map<int, std::unique_ptr<ObjectPoseError>> errors;
+	std::map<int, Mesh> meshes; // with keepMeshes only
 };
 
-Expected<EvalModels> loadEvalModels(const BopDataset &dataset, const std::set<int> &objectIds);
+Expected<EvalModels> loadEvalModels(const BopDataset &dataset, const std::set<int> &objectIds,
+				    bool keepMeshes = false);
 
 // The models_info.json part of loadEvalModels alone: an entry with a
 // positive diameter for each object (cheap; checked before anything is read).
