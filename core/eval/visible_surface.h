@@ -47,8 +47,9 @@ public:
 	explicit VisibleSurfaceScorer(const Mesh &mesh);
 
 	// e_VSD of est against gt for each tau (mm), seen by a camera with
-	// intrinsics K whose depth image (mm, 0 = no data) is testDepth.
-	// kInvalidArgument when K does not fit the image.
+	// intrinsics K whose depth image (mm, 0 = no data) is testDepth; the
+	// image's size is the camera's. kInvalidArgument when K has no focal
+	// length or the image is empty.
 	Expected<std::vector<double>> errors(const Pose &est, const Pose &gt,
 					     ImageView<const float> testDepth, const CameraIntrinsics &K,
 					     std::span<const double> tausMm);
