@@ -40,6 +40,7 @@
 #include "core/training/near_symmetry_finder.h"
 #include "core/training/training_set.h"
 #include "core/training/view_template_builder.h"
+#include "tests/common/part_pixels.h"
 #include "tests/runtime/small_model.h"
 
 namespace ihf {
@@ -505,16 +506,12 @@ TEST_F(SymmetryTurns, ATrackedAmbiguousCupIsToldApartOnceItsHandleShows)
 	const PixelBox box = scene(gt, clear);
 	DepthImageMm occluded = clear;
 	{
-		const Mesh body = makeCup(false);
-		DepthImageMm bodyDepth(640, 480, 0.0f), cupDepth(640, 480, 0.0f);
-		DepthRenderer renderer(model_->mesh().vertices.size());
-		ASSERT_TRUE(renderer.render(body, gt, kKinect, bodyDepth.view()).ok());
-		ASSERT_TRUE(renderer.render(model_->mesh(), gt, kKinect, cupDepth.view()).ok());
+		auto handle = test::partPixels(model_->mesh(), makeCup(false), gt, kKinect);
+		ASSERT_TRUE(handle.ok()) << handle.error().message;
 		const int r = 4; // the occluder reaches a little past the handle
 		for (int y = 0; y < 480; ++y)
 			for (int x = 0; x < 640; ++x) {
-				const float c = cupDepth.at(x, y), b = bodyDepth.at(x, y);
-				if (!(c > 0 && (b <= 0 || c < b - 1.0f)))
+				if (!handle->at(x, y))
 					continue;
 				for (int v = std::max(0, y - r); v <= std::min(479, y + r); ++v)
 					for (int u = std::max(0, x - r); u <= std::min(639, x + r); ++u)

@@ -11,6 +11,7 @@
 #include "core/eval/visible_surface.h"
 #include "core/render/depth_renderer.h"
 #include "core/synth/household_objects.h"
+#include "tests/common/part_pixels.h"
 
 namespace ihf {
 namespace {
@@ -72,13 +73,14 @@ protected:
 	{
 		DepthImageMm test = render(cup_, a);
 		for (const Pose *pose : {&a, &b}) {
-			const DepthImageMm full = render(cup_, *pose), body = render(body_, *pose);
+			auto handle = test::partPixels(cup_, body_, *pose, kinectV1Intrinsics());
+			EXPECT_TRUE(handle.ok()) << handle.error().message;
+			if (!handle)
+				continue;
 			for (int y = 0; y < test.height(); ++y)
-				for (int x = 0; x < test.width(); ++x) {
-					const float f = full.at(x, y), g = body.at(x, y);
-					if (f > 0 && (g <= 0 || f < g - 1.0f))
+				for (int x = 0; x < test.width(); ++x)
+					if (handle->at(x, y))
 						test.at(x, y) = 300.0f;
-				}
 		}
 		return test;
 	}
