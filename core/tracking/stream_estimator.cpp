@@ -424,18 +424,24 @@ void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth
 				    std::span<const StreamBox> boxes, const EstimatorConfig &config,
 				    std::span<StreamResult> results)
 {
-	if (frame_.unlimited() || !(config_.detectMinMs > 0))
+	const bool unlimited = frame_.unlimited();
+	if (!unlimited && !(config_.detectMinMs > 0))
 		return;
-	// Only when no box of the frame still waits for its detection.
+	// Only when no box of the frame still waits for its detection. An
+	// unbudgeted frame, which time does not limit, detects again each
+	// ambiguous track: the one a detection can settle (or correct) once
+	// its part comes into view, which the tracked polish alone never does.
 	size_t tracked = 0;
 	for (size_t i = 0; i < boxes.size(); ++i) {
 		if (results[i].mode == BoxMode::kDeferred)
 			return;
-		if (results[i].mode == BoxMode::kTrack)
+		if (results[i].mode == BoxMode::kTrack && (!unlimited || trackOf_[i]->ambiguous))
 			order_[tracked++] = static_cast<int>(i);
 	}
-	const double leftMs = usableMs();
-	const size_t run = std::min(tracked, static_cast<size_t>(std::max(0.0, leftMs / config_.detectMinMs)));
+	const double leftMs = unlimited ? 0.0 : usableMs();
+	const size_t run =
+		unlimited ? tracked
+			  : std::min(tracked, static_cast<size_t>(std::max(0.0, leftMs / config_.detectMinMs)));
 	if (run == 0)
 		return;
 	// The track most in doubt first: the least confident detection, and
@@ -487,7 +493,8 @@ void StreamEstimator::refreshTracks(uint64_t frame, ImageView<const float> depth
 		}
 	}
 	detector_.endFrame();
-	observeOvershoot(groupStart, static_cast<float>(leftMs));
+	if (!unlimited)
+		observeOvershoot(groupStart, static_cast<float>(leftMs));
 }
 
 double StreamEstimator::usableMs() const

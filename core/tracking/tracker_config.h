@@ -34,7 +34,10 @@ struct TrackerConfig {
 	// detectMinMs each); the detection's pose
 	// replaces the tracked one when it scores higher. A track started from
 	// a poor detection (a short share, the object half hidden) is then not
-	// followed for long. Unbudgeted frames never refresh.
+	// followed for long. An unbudgeted frame, which time does not limit,
+	// detects again its ambiguous tracks, by the same rules: a detection
+	// that tells the turns apart settles one, and the tracked polish alone
+	// never would.
 	bool refresh = true;
 	// The tracked polish: ICP from the predicted pose on the box's crop
 	// cut to the prediction's depth range.

@@ -454,7 +454,7 @@ const KeyDesc kDeviceKeys[] = {
 	  "a box waits at most this many frames for its detection"),
 	D("tracking", "detect_min_ms", tracking.detectMinMs, atLeast(0), X,
 	  "a detection runs only with this much of the frame left (unless due)"),
-	D("tracking", "refresh", tracking.refresh, kAny, X, "time a budgeted frame has left goes to detecting tracked boxes again; a better detection replaces the tracked pose, one that tells apart the turns an ambiguous track could not settles it"),
+	D("tracking", "refresh", tracking.refresh, kAny, X, "time a budgeted frame has left goes to detecting tracked boxes again (an unbudgeted frame: its ambiguous tracks); a better detection replaces the tracked pose, one that tells apart the turns an ambiguous track could not settles it"),
 	D("tracking", "min_score", tracking.minScore, within(0, 1), X, "a tracked pose is kept only if it scores at least this"),
 	D("tracking", "keep_share", tracking.keepShare, within(0, 1), X,
 	  "and at least this share of its detection's score"),

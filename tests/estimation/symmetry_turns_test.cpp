@@ -6,8 +6,9 @@
 // show the handle (the turns compared on a finer one); seen with the
 // handle hidden behind its body, the pose comes back flagged ambiguous
 // about the cup's axis, its confidence scaled down, and so does every pose
-// that tracks it in the frames after, until a frame's spare time detects
-// it again with the handle come into view. The comparisons behind each
+// that tracks it in the frames after, until a frame's spare time (or, in
+// an unbudgeted stream, every frame) detects it again with the handle come
+// into view. The comparisons behind each
 // verdict reach the estimator's observer.
 // The stage alone, given the cup upside down and slid along its axis as the
 // best, takes the truth among the reported poses unless its score lies far
@@ -125,6 +126,28 @@ protected:
 				}
 		const int mx = (x1 - x0) / 10 + 2, my = (y1 - y0) / 10 + 2;
 		return PixelBox{x0 - mx, y0 - my, x1 - x0 + 1 + 2 * mx, y1 - y0 + 1 + 2 * my};
+	}
+
+	// clear with an occluder 150 mm in front of the cup over its handle
+	// and a little past it.
+	static DepthImageMm handleHidden(const Pose &gt, const DepthImageMm &clear)
+	{
+		DepthImageMm occluded = clear;
+		auto handle = test::partPixels(model_->mesh(), makeCup(false), gt, kKinect);
+		EXPECT_TRUE(handle.ok()) << handle.error().message;
+		if (!handle.ok())
+			return occluded;
+		const int r = 4;
+		const int w = clear.width(), h = clear.height();
+		for (int y = 0; y < h; ++y)
+			for (int x = 0; x < w; ++x) {
+				if (!handle->at(x, y))
+					continue;
+				for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
+					for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u)
+						occluded.at(u, v) = static_cast<float>(gt.t.z() - 150.0);
+			}
+		return occluded;
 	}
 
 	// The angle (deg) between the estimate's and the truth's handle
@@ -504,20 +527,7 @@ TEST_F(SymmetryTurns, ATrackedAmbiguousCupIsToldApartOnceItsHandleShows)
 	const Pose gt = viewOfCup(60.0, 25.0);
 	DepthImageMm clear(640, 480, 0.0f);
 	const PixelBox box = scene(gt, clear);
-	DepthImageMm occluded = clear;
-	{
-		auto handle = test::partPixels(model_->mesh(), makeCup(false), gt, kKinect);
-		ASSERT_TRUE(handle.ok()) << handle.error().message;
-		const int r = 4; // the occluder reaches a little past the handle
-		for (int y = 0; y < 480; ++y)
-			for (int x = 0; x < 640; ++x) {
-				if (!handle->at(x, y))
-					continue;
-				for (int v = std::max(0, y - r); v <= std::min(479, y + r); ++v)
-					for (int u = std::max(0, x - r); u <= std::min(639, x + r); ++u)
-						occluded.at(u, v) = static_cast<float>(gt.t.z() - 150.0);
-			}
-	}
+	const DepthImageMm occluded = handleHidden(gt, clear);
 
 	test::StepClock clock(1000000); // 1 ms a read
 	PoseEstimator detector({}, &clock);
@@ -552,6 +562,55 @@ TEST_F(SymmetryTurns, ATrackedAmbiguousCupIsToldApartOnceItsHandleShows)
 	EXPECT_GT(shown.estimate.confidence, 0.5f * shown.estimate.score.score);
 	// And so it stays while it is tracked.
 	const StreamResult after = frame(3, clear);
+	EXPECT_FALSE(after.estimate.ambiguous);
+}
+
+TEST_F(SymmetryTurns, AnUnbudgetedStreamDetectsItsAmbiguousTracksAgain)
+{
+	// The same scene in unbudgeted frames, which have no spare time: each
+	// frame detects the ambiguous track again. The first detection, the
+	// handle hidden, turns it well away from the truth, and nothing in the
+	// tracked frames moves it; the first detection that sees the handle
+	// replaces it, unflagged, and the track is not detected again.
+	const Pose gt = viewOfCup(60.0, 25.0);
+	DepthImageMm clear(640, 480, 0.0f);
+	const PixelBox box = scene(gt, clear);
+	const DepthImageMm occluded = handleHidden(gt, clear);
+
+	PoseEstimator detector;
+	StreamEstimator stream(detector, TrackerConfig{});
+	ASSERT_TRUE(stream.valid());
+	const StreamBox sbox{31, box, 0, model_};
+	auto frame = [&](int f, const DepthImageMm &depth) {
+		StreamResult r;
+		stream.estimateFrame(static_cast<uint64_t>(f), depth.view(), kKinect, std::span<const StreamBox>(&sbox, 1),
+				     EstimatorConfig{}, 0.0f, std::span<StreamResult>(&r, 1));
+		EXPECT_TRUE(r.estimate.found) << "frame " << f << ": " << r.estimate.reason;
+		return r;
+	};
+
+	const StreamResult first = frame(0, occluded);
+	ASSERT_EQ(first.mode, BoxMode::kDetect);
+	ASSERT_TRUE(first.estimate.ambiguous) << "the occluder must hide the handle from the detection";
+	ASSERT_GT(handleAngleDeg(first.estimate.pose, gt), 90.0) << "this scene's hidden handle is guessed wrong";
+	const StreamResult hidden = frame(1, occluded);
+	EXPECT_EQ(hidden.mode, BoxMode::kTrack);
+	EXPECT_EQ(stream.stats().refreshed, 1u);
+	EXPECT_EQ(stream.stats().refreshWins, 0u) << "a detection that cannot tell the turns apart changes nothing";
+	EXPECT_TRUE(hidden.estimate.ambiguous);
+	EXPECT_GT(handleAngleDeg(hidden.estimate.pose, gt), 90.0);
+
+	const StreamResult shown = frame(2, clear);
+	EXPECT_EQ(shown.mode, BoxMode::kDetect);
+	EXPECT_EQ(stream.stats().refreshed, 2u);
+	EXPECT_EQ(stream.stats().refreshWins, 1u);
+	EXPECT_FALSE(shown.estimate.ambiguous);
+	EXPECT_LT(handleAngleDeg(shown.estimate.pose, gt), 15.0);
+	EXPECT_LT(addError(shown.estimate.pose, gt, model_->mesh().vertices), 0.1 * model_->params().diameter);
+
+	const StreamResult after = frame(3, clear);
+	EXPECT_EQ(after.mode, BoxMode::kTrack);
+	EXPECT_EQ(stream.stats().refreshed, 2u) << "a settled track is not detected again";
 	EXPECT_FALSE(after.estimate.ambiguous);
 }
 
