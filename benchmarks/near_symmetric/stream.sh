@@ -3,7 +3,8 @@
 # The nearly symmetric objects in a stream: 30 Hz sequences of the cup,
 # camera and bottle on a table among the LM-O objects (clutter), estimated
 # inside 33 ms frames with tracking (ihf estimate --sequence) and with a
-# cold start every frame, scored by ADD and by the visible surface
+# cold start every frame, and tracked without a budget (results/track_0ms),
+# scored by ADD and by the visible surface
 # (ihf eval --vsd) and split by whether the part shows at the true pose
 # (part_visibility, split.py): where it shows, tracked poses should be
 # right and not flagged ambiguous.
@@ -43,12 +44,13 @@ forests=()
 for id in 31 32 33; do
 	forests+=(--forest "$id=$ns/forests/obj$id.ihf")
 done
-for mode in track cold; do
-	r="$out/results/${mode}_33ms"
+for run in track:33 cold:33 track:0; do
+	mode=${run%:*} budget=${run#*:}
+	r="$out/results/${mode}_${budget}ms"
 	opt=()
 	[ "$mode" = cold ] || opt=(--sequence)
 	"$ihf" estimate --dataset "$out/seq" --boxes "$out/seq/boxes.json" "${forests[@]}" \
-		--config "$root/config/estimate.toml" --budget-ms 33 "${opt[@]}" --stats-json "$r.stats.json" \
+		--config "$root/config/estimate.toml" --budget-ms "$budget" "${opt[@]}" --stats-json "$r.stats.json" \
 		--out "$r.csv" --quiet 2> "$r.log"
 	grep -E 'tracking|ambiguous' "$r.log" || true
 	"$ihf" eval --dataset "$out/seq" --results "$r.csv" --vsd --json "$r.eval.json" | tee "$r.eval.txt"
