@@ -362,6 +362,16 @@ int runEstimate(const EstimateOptions &o)
 		std::fprintf(stderr, "ihf estimate: %s\n", st.error().message.c_str());
 		return kExitFailure;
 	}
+	EstimateRunSummary summary{poses.estimator().stats(), s.limits, s.estimator.frameBudgetMs, tally.boxTimes,
+				   boxKindName(s.boxKind), s.estimator.score, tally.ambiguous};
+	// Both files before the report: stderr read by a pipe that closes
+	// early (`| head`) ends the process at its next write.
+	if (!o.statsJson.empty()) {
+		if (auto st = writeFileAtomic(o.statsJson, estimateStatsJson(summary)); !st) {
+			std::fprintf(stderr, "ihf estimate: %s\n", st.error().message.c_str());
+			return kExitFailure;
+		}
+	}
 	std::fprintf(stderr,
 		     "ihf estimate: %d boxes, %zu poses, %d no pose, %d skipped; per box median %.1f ms, "
 		     "p99 %.1f ms; wrote %s\n",
@@ -369,18 +379,10 @@ int runEstimate(const EstimateOptions &o)
 		     1e3 * percentile(tally.boxTimes, 0.99), o.out.c_str());
 	if (const StreamEstimator *tracker = poses.tracker())
 		printTracking(tracker->stats(), tally, frameTimes);
-	EstimateRunSummary summary{poses.estimator().stats(), s.limits, s.estimator.frameBudgetMs, tally.boxTimes,
-				   boxKindName(s.boxKind), s.estimator.score, tally.ambiguous};
 	if (!tally.ambiguous.empty())
 		std::fprintf(stderr, "ihf estimate: %zu poses ambiguous (a turn the depth cannot tell apart; --stats-json lists them)\n",
 			     tally.ambiguous.size());
 	printEstimateStats(stderr, summary);
-	if (!o.statsJson.empty()) {
-		if (auto st = writeFileAtomic(o.statsJson, estimateStatsJson(summary)); !st) {
-			std::fprintf(stderr, "ihf estimate: %s\n", st.error().message.c_str());
-			return kExitFailure;
-		}
-	}
 	return kExitOk;
 }
 
