@@ -69,7 +69,8 @@ struct TrackingStats {
 	uint64_t deferred = 0;    // detections moved to a later frame
 	uint64_t provisional = 0; // of those, answered with their tracked pose not kept
 	uint64_t forced = 0;      // detections run though the frame had no room (due)
-	uint64_t refreshed = 0;   // tracked boxes detected again with the frame's spare time
+	uint64_t refreshed = 0;   // tracked boxes detected again (budgeted: with the frame's spare time;
+				  // unbudgeted: the ambiguous ones)
 	uint64_t refreshWins = 0; // of those, the detection scored higher and replaced the track
 	uint64_t refreshSettled = 0; // of those, ambiguous tracks the detection told apart (their pose kept)
 	uint64_t duplicates = 0;
