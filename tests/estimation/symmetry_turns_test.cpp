@@ -150,6 +150,17 @@ protected:
 		return occluded;
 	}
 
+	// Frame f of a stream with the one box, inside budgetMs (0: unbudgeted).
+	static StreamResult streamFrame(StreamEstimator &stream, const StreamBox &box, int f, const DepthImageMm &depth,
+					float budgetMs)
+	{
+		StreamResult r;
+		stream.estimateFrame(static_cast<uint64_t>(f), depth.view(), kKinect, std::span<const StreamBox>(&box, 1),
+				     EstimatorConfig{}, budgetMs, std::span<StreamResult>(&r, 1));
+		EXPECT_TRUE(r.estimate.found) << "frame " << f << ": " << r.estimate.reason;
+		return r;
+	}
+
 	// The angle (deg) between the estimate's and the truth's handle
 	// directions, seen along the cup's axis.
 	static double handleAngleDeg(const Pose &est, const Pose &gt)
@@ -536,13 +547,7 @@ TEST_F(SymmetryTurns, ATrackedAmbiguousCupIsToldApartOnceItsHandleShows)
 	StreamEstimator stream(detector, tc, &clock);
 	ASSERT_TRUE(stream.valid());
 	const StreamBox sbox{31, box, 0, model_};
-	auto frame = [&](int f, const DepthImageMm &depth) {
-		StreamResult r;
-		stream.estimateFrame(static_cast<uint64_t>(f), depth.view(), kKinect, std::span<const StreamBox>(&sbox, 1),
-				     EstimatorConfig{}, 500.0f, std::span<StreamResult>(&r, 1));
-		EXPECT_TRUE(r.estimate.found) << "frame " << f << ": " << r.estimate.reason;
-		return r;
-	};
+	auto frame = [&](int f, const DepthImageMm &depth) { return streamFrame(stream, sbox, f, depth, 500.0f); };
 
 	const StreamResult first = frame(0, occluded);
 	ASSERT_EQ(first.mode, BoxMode::kDetect);
@@ -581,13 +586,7 @@ TEST_F(SymmetryTurns, AnUnbudgetedStreamDetectsItsAmbiguousTracksAgain)
 	StreamEstimator stream(detector, TrackerConfig{});
 	ASSERT_TRUE(stream.valid());
 	const StreamBox sbox{31, box, 0, model_};
-	auto frame = [&](int f, const DepthImageMm &depth) {
-		StreamResult r;
-		stream.estimateFrame(static_cast<uint64_t>(f), depth.view(), kKinect, std::span<const StreamBox>(&sbox, 1),
-				     EstimatorConfig{}, 0.0f, std::span<StreamResult>(&r, 1));
-		EXPECT_TRUE(r.estimate.found) << "frame " << f << ": " << r.estimate.reason;
-		return r;
-	};
+	auto frame = [&](int f, const DepthImageMm &depth) { return streamFrame(stream, sbox, f, depth, 0.0f); };
 
 	const StreamResult first = frame(0, occluded);
 	ASSERT_EQ(first.mode, BoxMode::kDetect);
