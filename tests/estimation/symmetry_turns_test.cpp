@@ -8,8 +8,8 @@
 // about the cup's axis, its confidence scaled down, and so does every pose
 // that tracks it in the frames after, until a frame's spare time (or, in
 // an unbudgeted stream, every frame) detects it again with the handle come
-// into view. The comparisons behind each
-// verdict reach the estimator's observer.
+// into view. The comparisons behind each verdict reach the estimator's
+// observer.
 // The stage alone, given the cup upside down and slid along its axis as the
 // best, takes the truth among the reported poses unless its score lies far
 // below, and leaves a turn about the axis to the turns; a reported turn
