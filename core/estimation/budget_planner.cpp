@@ -57,12 +57,13 @@ bool BudgetPlanner::chooseLeanSearch(double leanSearchBelow)
 	return leanSearch_;
 }
 
-void BudgetPlanner::plan(int searches, int polishRounds, Stage kept, int keptLast)
+void BudgetPlanner::plan(int searches, int polishRounds, Stage kept, int keptLast, int keptPolishRounds)
 {
 	plannedSearches_ = searches;
 	plannedPolishRounds_ = polishRounds;
 	kept_ = kept;
 	keptLast_ = kept == Stage::kCount ? 0 : keptLast;
+	keptPolishRounds_ = kept == Stage::kCount ? 0 : keptPolishRounds;
 }
 
 // One vote pass, predicted from the refinement iterations and the initial
@@ -82,7 +83,10 @@ int64_t BudgetPlanner::polishCost(double margin) const
 
 int64_t BudgetPlanner::keptCost(double margin) const
 {
-	return keptLast_ > 0 && kept_ != Stage::kCount ? keptLast_ * costs_.bound(kept_, margin, workOf(kept_)) : 0;
+	if (kept_ == Stage::kCount)
+		return 0;
+	return (keptLast_ > 0 ? keptLast_ * costs_.bound(kept_, margin, workOf(kept_)) : 0) +
+	       (keptPolishRounds_ > 0 ? keptPolishRounds_ * polishCost(margin) : 0);
 }
 
 int64_t BudgetPlanner::searchCost(double margin, int polishRounds) const

@@ -87,16 +87,22 @@ public:
 
 	// What the box runs after its vote passes: view searches, polish rounds
 	// and, last, the stages kept (`keptLast` runs of `kept`, scaled with the
-	// box's work: a nearly symmetric object's comparison of its turns, the
-	// step that places its part).
-	void plan(int searches, int polishRounds, Stage kept = Stage::kCount, int keptLast = 0);
+	// box's work, and `keptPolishRounds` polish rounds of their own: a
+	// nearly symmetric object's comparison of its turns, the step that
+	// places its part, with its turns' polish and the comparison after it).
+	void plan(int searches, int polishRounds, Stage kept = Stage::kCount, int keptLast = 0,
+		  int keptPolishRounds = 0);
 	// Whether a vote pass (a refinement iteration, a further slab) fits
 	// with room for the planned searches and polish rounds after it, and
 	// for the stages kept last.
 	bool passFits(double margin);
 	// The stages kept last begin: nothing is kept for them any more (their
 	// own polish rounds ask polishFits()).
-	void beginKept() { keptLast_ = 0; }
+	void beginKept()
+	{
+		keptLast_ = 0;
+		keptPolishRounds_ = 0;
+	}
 	// A view search, with polishRounds ICP rounds after it and room for the
 	// stages kept last.
 	bool searchFits(double margin, int polishRounds);
@@ -158,6 +164,7 @@ private:
 	int plannedPolishRounds_ = 0;
 	Stage kept_ = Stage::kCount;
 	int keptLast_ = 0;
+	int keptPolishRounds_ = 0;
 	int64_t boxStartNs_ = 0;
 	int64_t registrationNs_ = 0;
 	bool boxCut_ = false;

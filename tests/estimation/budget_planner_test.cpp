@@ -3,7 +3,8 @@
 // a stage never measured is predicted free; a measured one fits only while
 // its cost bound is left in the box's share; a vote pass is refused when it
 // would leave no room for the planned searches and polish rounds, and a
-// pass or a search none for the stage kept last; an optional stage fits
+// pass or a search none for the stage kept last (nor for that stage's own
+// polish rounds when it has some); an optional stage fits
 // with a polish and the stage kept last after it; a polish round and
 // another stage keep that room too, until the kept stage begins; polish
 // and re-search refusals are counted apart from the boxes cut short; a lean
@@ -127,6 +128,37 @@ TEST(BudgetPlanner, PassesAndSearchesKeepRoomForTheStageKeptLast)
 	EXPECT_FALSE(p.searchFits(0, 0));
 	EXPECT_FALSE(p.researchFits(0, 0));
 	EXPECT_TRUE(p.stageFits(Stage::kSymmetryTurns, 0, false)); // the kept stage itself still fits
+}
+
+TEST(BudgetPlanner, TheStageKeptLastKeepsRoomForItsOwnPolishToo)
+{
+	ManualClock clock;
+	BudgetPlanner p(&clock);
+	measureABox(p, clock, {{Stage::kViews, 3}, {Stage::kIcp, 2}, {Stage::kSymmetryTurns, 2}});
+
+	// 12 ms, 8 left after a pass: a search (3) fits with one comparison (2)
+	// kept after it, not with two comparisons and the turns' polish
+	// between them (2 + 2 + 2).
+	p.beginFrame(1, 12.0f);
+	p.beginBox();
+	clock.t += 4 * kMs;
+	p.plan(1, 0, Stage::kSymmetryTurns, 1);
+	EXPECT_TRUE(p.searchFits(0, 0));
+	p.plan(1, 0, Stage::kSymmetryTurns, 2, 1);
+	EXPECT_FALSE(p.searchFits(0, 0));
+	EXPECT_FALSE(p.passFits(0));
+	// 9 left: now it fits.
+	p.beginFrame(1, 13.0f);
+	p.beginBox();
+	clock.t += 4 * kMs;
+	p.plan(1, 0, Stage::kSymmetryTurns, 2, 1);
+	EXPECT_TRUE(p.searchFits(0, 0));
+	// Once the comparison begins, its polish needs only its own time and
+	// a comparison after it.
+	clock.t += 5 * kMs; // 4 left
+	EXPECT_FALSE(p.polishFits(0, Stage::kSymmetryTurns));
+	p.beginKept();
+	EXPECT_TRUE(p.polishFits(0, Stage::kSymmetryTurns));
 }
 
 TEST(BudgetPlanner, AnOptionalStageFitsWithAPolishAndTheStageKeptLast)
