@@ -15,8 +15,7 @@
 #
 # Data sets, meshes and forests that exist are kept, so a run can be resumed;
 # the estimates are made again. The budgeted runs are timed: run them on an
-# idle machine. Needs build/bin/ihf and
-# build/bin/part_visibility.
+# idle machine. Needs build/bin/ihf and build/bin/part_visibility.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 ihf="$root/build/bin/ihf"

@@ -260,17 +260,9 @@ void PoseEstimator::planAfterPasses(const ProposalBox &box)
 			 (research ? box.polisher.rounds(researchPolished(config)) : 0);
 	// A nearly symmetric object's comparison of its turns comes last and
 	// is what places its part: its time is kept from the passes and
-	// searches before it. A body of revolution's turns are many and close
-	// together, and the best is told from the nearest of them only once
-	// they are polished: its turns' polish and their comparison again are
-	// kept too.
-	const bool turns = symmetryTurns_.enabled(box);
-	const auto &symmetries = box.model.nearSymmetries();
-	const bool polishTurns = turns && config.icp && config.symmetryTurns.polishRivals > 0 &&
-				 std::any_of(symmetries.begin(), symmetries.end(),
-					     [](const NearSymmetry &s) { return s.continuous(); });
-	planner_.plan(searches, rounds, Stage::kSymmetryTurns, turns ? (polishTurns ? 2 : 1) : 0,
-		      polishTurns ? 1 : 0);
+	// searches before it.
+	const SymmetryRivalSource::KeptTime kept = symmetryTurns_.keptTime(box);
+	planner_.plan(searches, rounds, Stage::kSymmetryTurns, kept.runs, kept.polishRounds);
 }
 
 // Eq. 10: each refinement sees only the crop inside the previous

@@ -42,11 +42,31 @@ double distinctMmOf(const ProposalBox &box)
 	return static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
 }
 
+// Whether the turns the best does not clearly beat are polished and
+// compared again (polishRivals()).
+bool polishesTurns(const EstimatorConfig &config)
+{
+	return config.icp && config.symmetryTurns.polishRivals > 0;
+}
+
 } // namespace
 
 bool SymmetryRivalSource::enabled(const ProposalBox &box) const
 {
 	return box.config.symmetryTurns.enabled && !box.model.nearSymmetries().empty();
+}
+
+SymmetryRivalSource::KeptTime SymmetryRivalSource::keptTime(const ProposalBox &box) const
+{
+	if (!enabled(box))
+		return {};
+	// A body of revolution's turns are many and close together, and the
+	// best is told from the nearest of them only once they are polished:
+	// their polish and the comparison again are kept too.
+	const auto &symmetries = box.model.nearSymmetries();
+	const bool revolution = std::any_of(symmetries.begin(), symmetries.end(),
+					    [](const NearSymmetry &s) { return s.continuous(); });
+	return revolution && polishesTurns(box.config) ? KeptTime{2, 1} : KeptTime{1, 0};
 }
 
 size_t SymmetryRivalSource::turnsOf(ProposalBox &box, const Pose &best, std::span<Rival> out)
@@ -185,8 +205,7 @@ void SymmetryRivalSource::polishRivals(ProposalBox &box, const Hypothesis &best,
 	const SymmetryTurnConfig &cfg = box.config.symmetryTurns;
 	// The polish, then a comparison of the polished turns (on the part
 	// window, whose renders cost more than the box's).
-	if (cfg.polishRivals <= 0 || !box.config.icp ||
-	    !box.planner.polishFits(box.config.budgetMargin, Stage::kSymmetryTurns))
+	if (!polishesTurns(box.config) || !box.planner.polishFits(box.config.budgetMargin, Stage::kSymmetryTurns))
 		return;
 	// The turns the best does not clearly beat, the one the depth prefers
 	// most first.

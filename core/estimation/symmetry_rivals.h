@@ -55,6 +55,14 @@ class SymmetryRivalSource : public ProposalSource
 {
 public:
 	bool enabled(const ProposalBox &box) const override;
+	// The time a budget keeps for this stage from the stages before it
+	// (BudgetPlanner::plan): runs of the comparison and polish rounds of
+	// its own; none when it does not run.
+	struct KeptTime {
+		int runs = 0;
+		int polishRounds = 0;
+	};
+	KeptTime keptTime(const ProposalBox &box) const;
 	// The best, or a turn of it that the depth prefers (polished); invalid
 	// when the budget stopped it before any comparison.
 	Hypothesis propose(ProposalBox &box, const Hypothesis &best, std::span<const Hypothesis> polished) override;
