@@ -13,9 +13,7 @@ namespace ihf {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
-double deg(double d) { return d * kPi / 180.0; }
+double deg(double d) { return d * std::numbers::pi / 180.0; }
 
 // Quintic Hermite basis with zero acceleration at both ends: position and
 // velocity continuous through a key, acceleration zero there (so C2).
@@ -93,8 +91,8 @@ CameraPath CameraPath::sample(const CameraPathParams &p, const CameraIntrinsics 
 				const double f = freqs[w] * rng.uniform(0.7, 1.3);
 				const double a = (axis < 3 ? moveMm[w] : deg(turnDeg[w])) * rng.uniform(0.6, 1.0) * p.shake;
 				wave.amplitude = a;
-				wave.omega = 2 * kPi * f;
-				wave.phase = rng.uniform(0, 2 * kPi);
+				wave.omega = 2 * std::numbers::pi * f;
+				wave.phase = rng.uniform(0, 2 * std::numbers::pi);
 				bound[axis] += wave.omega * wave.amplitude;
 				path.shake_[axis].push_back(wave);
 			}
@@ -114,7 +112,7 @@ CameraPath CameraPath::sample(const CameraPathParams &p, const CameraIntrinsics 
 	double distance = rng.uniform(p.distanceMin, p.distanceMax);
 	auto randomLook = [&]() {
 		const double r = p.lookRadius * std::sqrt(rng.uniform01());
-		const double a = rng.uniform(0, 2 * kPi);
+		const double a = rng.uniform(0, 2 * std::numbers::pi);
 		return Eigen::Vector3d(centre + Eigen::Vector3d(r * std::cos(a), r * std::sin(a), 0));
 	};
 	Eigen::Vector3d look = randomLook();
@@ -150,7 +148,7 @@ CameraPath CameraPath::sample(const CameraPathParams &p, const CameraIntrinsics 
 			const double step = deg(rng.uniform(25, 50));
 			azimuth += rng.chance(0.5) ? step : -step;
 			const Eigen::Vector3d from = look - centre;
-			const double a = std::atan2(from.y(), from.x()) + kPi + rng.uniform(-0.6, 0.6);
+			const double a = std::atan2(from.y(), from.x()) + std::numbers::pi + rng.uniform(-0.6, 0.6);
 			const double r = p.lookRadius * rng.uniform(0.6, 1.0);
 			look = centre + Eigen::Vector3d(r * std::cos(a), r * std::sin(a), 0);
 		} else {

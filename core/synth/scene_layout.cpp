@@ -14,9 +14,7 @@ namespace ihf {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
-double deg(double d) { return d * kPi / 180.0; }
+double deg(double d) { return d * std::numbers::pi / 180.0; }
 
 Eigen::Matrix3d yawMatrix(double yaw)
 {
@@ -117,7 +115,7 @@ SceneLayout LayoutSampler::sampleBase(int targetId, SynthRandom &rng, double ele
 	SceneLayout layout;
 	const int rest = rng.chance(params_.uprightProbability) ? uprightRestingPose(model)
 							       : sampleRestingPose(model, rng);
-	const double yaw = rng.uniform(0, 2 * kPi);
+	const double yaw = rng.uniform(0, 2 * std::numbers::pi);
 	layout.objects.push_back(placeOnTable(model, rest, yaw, {0, 0}, SceneRole::kTarget));
 	if (rng.chance(params_.targetDropoutProbability))
 		layout.objects[0].dropout = rng.uniform(0.03, params_.targetDropoutMax);
@@ -125,7 +123,7 @@ SceneLayout LayoutSampler::sampleBase(int targetId, SynthRandom &rng, double ele
 	const double distance = rng.uniform(params_.distanceMin, params_.distanceMax);
 	const double elevMax = std::max(params_.elevationMinDeg, std::min(params_.elevationMaxDeg, elevationCapDeg));
 	const double elevation = deg(rng.uniform(params_.elevationMinDeg, elevMax));
-	const double azimuth = rng.uniform(0, 2 * kPi);
+	const double azimuth = rng.uniform(0, 2 * std::numbers::pi);
 	const double roll = deg(std::clamp(rng.normal() * params_.rollSigmaDeg,
 					   -params_.rollMaxDeg, params_.rollMaxDeg));
 	// Anywhere in the image where the object fits whole (the occlusion
@@ -229,12 +227,12 @@ void LayoutSampler::addClutter(SceneLayout &layout, const std::vector<int> &excl
 		const int rest = model.objId > 0 && rng.chance(params_.uprightProbability)
 					 ? uprightRestingPose(model)
 					 : sampleRestingPose(model, rng);
-		SceneObject obj = placeOnTable(model, rest, rng.uniform(0, 2 * kPi), {0, 0},
+		SceneObject obj = placeOnTable(model, rest, rng.uniform(0, 2 * std::numbers::pi), {0, 0},
 					       SceneRole::kClutter);
 		obj.dropout = rng.chance(params_.darkProbability) ? rng.uniform(0.6, 1.0) : 0.0;
 		const bool touching = rng.chance(params_.touchProbability);
 		for (int attempt = 0; attempt < 15; ++attempt) {
-			const double a = rng.uniform(0, 2 * kPi);
+			const double a = rng.uniform(0, 2 * std::numbers::pi);
 			const Eigen::Vector2d dir(std::cos(a), std::sin(a));
 			double d;
 			if (touching) {
@@ -273,13 +271,13 @@ void LayoutSampler::addClutter(SceneLayout &layout, const std::vector<int> &excl
 		const int rest = model.objId > 0 && rng.chance(params_.uprightProbability)
 					 ? uprightRestingPose(model)
 					 : sampleRestingPose(model, rng);
-		SceneObject obj = placeOnTable(model, rest, rng.uniform(0, 2 * kPi), {0, 0},
+		SceneObject obj = placeOnTable(model, rest, rng.uniform(0, 2 * std::numbers::pi), {0, 0},
 					       SceneRole::kBackground);
 		obj.dropout = rng.chance(params_.darkProbability) ? rng.uniform(0.6, 1.0) : 0.0;
 		const double r0 = layout.objects[0].footprint.radius() + obj.footprint.radius();
 		for (int attempt = 0; attempt < 10; ++attempt) {
 			// Big boxes stand behind the target (within +-70 degrees).
-			const double a = big ? awayAngle + rng.uniform(-1.2, 1.2) : rng.uniform(0, 2 * kPi);
+			const double a = big ? awayAngle + rng.uniform(-1.2, 1.2) : rng.uniform(0, 2 * std::numbers::pi);
 			const double d = rng.uniform(r0 + 100, r0 + 700);
 			moveOnTable(obj, layout.objects[0].footprint.centre +
 						 d * Eigen::Vector2d(std::cos(a), std::sin(a)));

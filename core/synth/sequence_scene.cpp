@@ -11,7 +11,6 @@ namespace ihf {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr uint64_t kSequenceTag = 0x73657175656e6365ull; // "sequence"
 constexpr int kMaxAttempts = 12;
 
@@ -120,7 +119,7 @@ bool Planner::offScene(const SceneObject &obj, int self, double start, double en
 		// One draw a statement: the order of an expression's operands is
 		// the compiler's, and a seed must give one sequence.
 		const double side = rng.chance(0.5) ? 0.5 : -0.5;
-		const double a = baseAzimuth_ + side * kPi + rng.uniform(-0.5, 0.5);
+		const double a = baseAzimuth_ + side * std::numbers::pi + rng.uniform(-0.5, 0.5);
 		const double reach = 700 + 350 * k;
 		const Eigen::Vector2d far = obj.footprint.centre + reach * unit(a);
 		const double lift = liftHeight(obj, self, obj.footprint.centre, far, objects);
@@ -181,7 +180,7 @@ Expected<SequenceScene> Planner::attempt(uint64_t key, int index)
 	const int slots = n + (change == Change::kPutDown ? 1 : 0);
 
 	// The side of the table the camera works from.
-	baseAzimuth_ = rng.uniform(0, 2 * kPi);
+	baseAzimuth_ = rng.uniform(0, 2 * std::numbers::pi);
 
 	// The targets: the first at the origin, the others close around it,
 	// mostly in front of or behind one another as seen from the camera's
@@ -192,7 +191,7 @@ Expected<SequenceScene> Planner::attempt(uint64_t key, int index)
 		const PlaceableModel &model = library_.model(order[static_cast<size_t>(i)]);
 		const int rest = rng.chance(lp.uprightProbability) ? uprightRestingPose(model)
 								   : sampleRestingPose(model, rng);
-		SceneObject obj = placeTarget(model.objId, rest, rng.uniform(0, 2 * kPi), {0, 0});
+		SceneObject obj = placeTarget(model.objId, rest, rng.uniform(0, 2 * std::numbers::pi), {0, 0});
 		if (rng.chance(lp.targetDropoutProbability))
 			obj.dropout = rng.uniform(0.03, lp.targetDropoutMax);
 		bool ok = i == 0;
@@ -200,11 +199,11 @@ Expected<SequenceScene> Planner::attempt(uint64_t key, int index)
 			// Beside a target already placed, a small gap between them.
 			SceneLayout anchor;
 			anchor.objects.push_back(layout.objects[rng.below(layout.objects.size())]);
-			const double end = rng.chance(0.5) ? 0.0 : kPi; // one draw a statement
+			const double end = rng.chance(0.5) ? 0.0 : std::numbers::pi; // one draw a statement
 			const double along = baseAzimuth_ + end + rng.uniform(-0.7, 0.7);
 			// In line first; anywhere around when the line is full.
 			const bool inLine = t < 20 && rng.chance(p_.inLineProbability);
-			const Eigen::Vector2d dir = unit(inLine ? along : rng.uniform(0, 2 * kPi));
+			const Eigen::Vector2d dir = unit(inLine ? along : rng.uniform(0, 2 * std::numbers::pi));
 			const double clear = sampler_.clearDistance(anchor, obj, dir, {0, 0},
 								     rng.uniform(2.0, p_.targetGapMax));
 			const double d = clear + (t / 40.0) * 100.0 * rng.uniform01();
@@ -288,9 +287,9 @@ Expected<SequenceScene> Planner::attempt(uint64_t key, int index)
 		if (ev.kind == CarryKind::kMove) {
 			const Placed &pl = placed[static_cast<size_t>(ev.slot)];
 			for (int t = 0; t < 80 && !ok; ++t) {
-				const Eigen::Vector2d dir = unit(rng.uniform(0, 2 * kPi)); // then the radius
+				const Eigen::Vector2d dir = unit(rng.uniform(0, 2 * std::numbers::pi)); // then the radius
 				const Eigen::Vector2d xy = mean + p_.groupRadius * std::sqrt(rng.uniform01()) * dir;
-				SceneObject dest = placeTarget(pl.objId, pl.rest, rng.uniform(0, 2 * kPi), xy);
+				SceneObject dest = placeTarget(pl.objId, pl.rest, rng.uniform(0, 2 * std::numbers::pi), xy);
 				if ((xy - obj.footprint.centre).norm() < 80.0 ||
 				    overlapsAny(reserved, dest, ev.slot, 2.0) ||
 				    clearance(dest, frameAt(start), p_.frames) < lp.minCameraClearance)
