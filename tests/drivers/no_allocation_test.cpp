@@ -9,6 +9,7 @@
 #include <cstdlib>
 
 #include "drivers/recording_source.h"
+#include "tests/common/sanitizers.h"
 #include "tests/common/test_paths.h"
 #include "tests/drivers/recording_test_util.h"
 
@@ -38,15 +39,7 @@ public:
 
 } // namespace
 
-#if defined(__SANITIZE_ADDRESS__)
-#define IHF_ALLOC_HOOKS 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define IHF_ALLOC_HOOKS 1
-#endif
-#endif
-
-#ifdef IHF_ALLOC_HOOKS
+#ifdef IHF_TEST_ASAN
 // AddressSanitizer owns malloc & co.: its allocator calls these hooks on
 // every allocation (operator new's and zlib's included) and free.
 extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*mallocHook)(const volatile void *, size_t),

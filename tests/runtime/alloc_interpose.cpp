@@ -6,15 +6,9 @@
 #include <cstddef>
 #include <new>
 
-#if defined(__SANITIZE_ADDRESS__)
-#define IHF_ALLOC_HOOKS 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define IHF_ALLOC_HOOKS 1
-#endif
-#endif
+#include "tests/common/sanitizers.h"
 
-#ifndef IHF_ALLOC_HOOKS
+#ifndef IHF_TEST_ASAN
 extern "C" {
 void *__libc_malloc(size_t size);
 void *__libc_calloc(size_t count, size_t size);
@@ -33,7 +27,7 @@ void count()
 }
 } // namespace
 
-#ifdef IHF_ALLOC_HOOKS
+#ifdef IHF_TEST_ASAN
 // AddressSanitizer owns malloc & co. (its own allocator, red zones): a
 // definition here would hand it glibc's blocks. Its allocator calls these
 // hooks on every allocation and free instead, operator new included.
@@ -56,7 +50,7 @@ uint64_t heapAllocations()
 
 } // namespace ihf::test
 
-#ifndef IHF_ALLOC_HOOKS
+#ifndef IHF_TEST_ASAN
 extern "C" {
 
 void *malloc(size_t size)
@@ -163,4 +157,4 @@ void operator delete(void *p, size_t, std::align_val_t) noexcept { free(p); }
 void operator delete[](void *p, size_t, std::align_val_t) noexcept { free(p); }
 void operator delete(void *p, std::align_val_t, const std::nothrow_t &) noexcept { free(p); }
 void operator delete[](void *p, std::align_val_t, const std::nothrow_t &) noexcept { free(p); }
-#endif // IHF_ALLOC_HOOKS
+#endif // IHF_TEST_ASAN
