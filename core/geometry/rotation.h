@@ -5,12 +5,16 @@
 // modes, virtual on-axis camera).
 
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 namespace ihf {
+
+// An angle in degrees, in radians.
+inline double radians(double degrees) { return degrees * std::numbers::pi / 180.0; }
 
 // <q1, q2> summed x, y, z, w in that order (Eigen's 4-float dot adds in
 // another order with SIMD than without, e.g. on armhf).

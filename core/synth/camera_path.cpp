@@ -7,13 +7,12 @@
 
 #include <Eigen/Geometry>
 
+#include "core/geometry/rotation.h"
 #include "core/synth/scene_layout.h"
 
 namespace ihf {
 
 namespace {
-
-double deg(double d) { return d * std::numbers::pi / 180.0; }
 
 // Quintic Hermite basis with zero acceleration at both ends: position and
 // velocity continuous through a key, acceleration zero there (so C2).
@@ -89,7 +88,7 @@ CameraPath CameraPath::sample(const CameraPathParams &p, const CameraIntrinsics 
 			for (int w = 0; w < 3; ++w) {
 				Wave wave;
 				const double f = freqs[w] * rng.uniform(0.7, 1.3);
-				const double a = (axis < 3 ? moveMm[w] : deg(turnDeg[w])) * rng.uniform(0.6, 1.0) * p.shake;
+				const double a = (axis < 3 ? moveMm[w] : radians(turnDeg[w])) * rng.uniform(0.6, 1.0) * p.shake;
 				wave.amplitude = a;
 				wave.omega = 2 * std::numbers::pi * f;
 				wave.phase = rng.uniform(0, 2 * std::numbers::pi);
@@ -103,12 +102,12 @@ CameraPath CameraPath::sample(const CameraPathParams &p, const CameraIntrinsics 
 	// Room for the shake under the limits, and a margin for the sampling of
 	// the segments' peaks.
 	const double vLimit = 0.97 * p.maxSpeedMmS - path.shakeSpeed_;
-	const double wLimit = 0.97 * deg(p.maxTurnDegS) - path.shakeTurn_;
+	const double wLimit = 0.97 * radians(p.maxTurnDegS) - path.shakeTurn_;
 
 	// Waypoints: azimuth within the arc, elevation, distance, look-at point.
-	const double arc = deg(p.arcHalfDeg);
+	const double arc = radians(p.arcHalfDeg);
 	double azimuth = baseAzimuth + rng.uniform(-0.5, 0.5) * arc;
-	double elevation = deg(rng.uniform(p.elevationMinDeg, p.elevationMaxDeg));
+	double elevation = radians(rng.uniform(p.elevationMinDeg, p.elevationMaxDeg));
 	double distance = rng.uniform(p.distanceMin, p.distanceMax);
 	auto randomLook = [&]() {
 		const double r = p.lookRadius * std::sqrt(rng.uniform01());
@@ -117,8 +116,8 @@ CameraPath CameraPath::sample(const CameraPathParams &p, const CameraIntrinsics 
 	};
 	Eigen::Vector3d look = randomLook();
 	auto rollDraw = [&]() {
-		return handheld ? deg(std::clamp(rng.normal() * p.rollSigmaDeg, -2 * p.rollSigmaDeg,
-						  2 * p.rollSigmaDeg))
+		return handheld ? radians(std::clamp(rng.normal() * p.rollSigmaDeg, -2 * p.rollSigmaDeg,
+						      2 * p.rollSigmaDeg))
 				: 0.0;
 	};
 	auto place = [&](Key &k) {
@@ -145,15 +144,15 @@ CameraPath CameraPath::sample(const CameraPathParams &p, const CameraIntrinsics 
 				   (longEnough && !turned && prev.t >= forcedTurn);
 		if (quick) {
 			// Swing the view to another part of the table.
-			const double step = deg(rng.uniform(25, 50));
+			const double step = radians(rng.uniform(25, 50));
 			azimuth += rng.chance(0.5) ? step : -step;
 			const Eigen::Vector3d from = look - centre;
 			const double a = std::atan2(from.y(), from.x()) + std::numbers::pi + rng.uniform(-0.6, 0.6);
 			const double r = p.lookRadius * rng.uniform(0.6, 1.0);
 			look = centre + Eigen::Vector3d(r * std::cos(a), r * std::sin(a), 0);
 		} else {
-			azimuth += deg(rng.uniform(-25, 25));
-			elevation += deg(rng.uniform(-12, 12));
+			azimuth += radians(rng.uniform(-25, 25));
+			elevation += radians(rng.uniform(-12, 12));
 			distance += rng.uniform(-150, 150);
 			const Eigen::Vector3d target = randomLook();
 			look += rng.uniform(0.3, 1.0) * (target - look);
@@ -164,7 +163,7 @@ CameraPath CameraPath::sample(const CameraPathParams &p, const CameraIntrinsics 
 			azimuth = std::max(lo, 2 * hi - azimuth);
 		if (azimuth < lo)
 			azimuth = std::min(hi, 2 * lo - azimuth);
-		elevation = std::clamp(elevation, deg(p.elevationMinDeg), deg(p.elevationMaxDeg));
+		elevation = std::clamp(elevation, radians(p.elevationMinDeg), radians(p.elevationMaxDeg));
 		distance = std::clamp(distance, p.distanceMin, p.distanceMax);
 
 		Key k;

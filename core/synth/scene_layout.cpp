@@ -14,8 +14,6 @@ namespace ihf {
 
 namespace {
 
-double deg(double d) { return d * std::numbers::pi / 180.0; }
-
 Eigen::Matrix3d yawMatrix(double yaw)
 {
 	return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
@@ -122,10 +120,10 @@ SceneLayout LayoutSampler::sampleBase(int targetId, SynthRandom &rng, double ele
 
 	const double distance = rng.uniform(params_.distanceMin, params_.distanceMax);
 	const double elevMax = std::max(params_.elevationMinDeg, std::min(params_.elevationMaxDeg, elevationCapDeg));
-	const double elevation = deg(rng.uniform(params_.elevationMinDeg, elevMax));
+	const double elevation = radians(rng.uniform(params_.elevationMinDeg, elevMax));
 	const double azimuth = rng.uniform(0, 2 * std::numbers::pi);
-	const double roll = deg(std::clamp(rng.normal() * params_.rollSigmaDeg,
-					   -params_.rollMaxDeg, params_.rollMaxDeg));
+	const double roll = radians(std::clamp(rng.normal() * params_.rollSigmaDeg,
+					       -params_.rollMaxDeg, params_.rollMaxDeg));
 	// Anywhere in the image where the object fits whole (the occlusion
 	// control may push it over the border on purpose).
 	// Where in the image: around the centre as a person framing the object
