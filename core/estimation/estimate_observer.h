@@ -43,7 +43,8 @@ struct VoteEvent {
 // or a close rival. What decided whether the best stays, and whether it is
 // flagged ambiguous.
 struct ComparisonEvent {
-	const char *kind = "";   // "turn" or "close_rival"
+	const char *kind = "";   // "turn", "end_over_end" (a body of revolution set end over end; no verdict)
+				 // or "close_rival"
 	int round = 0;           // the turns' comparison round (0 for close rivals)
 	int rank = 0;            // the rival's place in its round
 	Pose rival;              // model -> real camera

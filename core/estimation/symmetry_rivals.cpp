@@ -42,6 +42,26 @@ double distinctMmOf(const ProposalBox &box)
 	return static_cast<double>(box.config.confidence.distinctShare) * box.model.params().diameter;
 }
 
+// The direction, square to a continuous near-symmetry's axis, in which the
+// mesh reaches farthest from it: the side its part (a cup's handle) is on.
+// A half-turn about it sets the body end over end on itself, the part
+// where it was.
+Eigen::Vector3d partSide(const NearSymmetry &s, std::span<const Eigen::Vector3f> vertices)
+{
+	const Eigen::Vector3d axis = s.axis.cast<double>().normalized(), point = s.point.cast<double>();
+	Eigen::Vector3d side = axis.unitOrthogonal();
+	double farthest = 0;
+	for (const Eigen::Vector3f &v : vertices) {
+		Eigen::Vector3d r = v.cast<double>() - point;
+		r -= axis * axis.dot(r);
+		if (r.squaredNorm() > farthest) {
+			farthest = r.squaredNorm();
+			side = r.normalized();
+		}
+	}
+	return side;
+}
+
 // Whether the turns the best does not clearly beat are polished and
 // compared again (polishRivals()).
 bool polishesTurns(const EstimatorConfig &config)
@@ -75,30 +95,33 @@ size_t SymmetryRivalSource::turnsOf(ProposalBox &box, const Pose &best, std::spa
 	const double distinctMm = distinctMmOf(box);
 	const std::span<const Eigen::Vector3f> vertices = box.model.mesh().vertices;
 	size_t n = 0;
-	auto add = [&](const NearSymmetry &s, double deg) {
+	auto add = [&](const NearSymmetry &s, const Eigen::Vector3d &axis, double deg) -> Rival * {
 		if (n >= out.size())
-			return;
-		const Eigen::Vector3d axis = s.axis.cast<double>(), point = s.point.cast<double>();
+			return nullptr;
+		const Eigen::Vector3d point = s.point.cast<double>();
 		const Eigen::Matrix3d turn =
 			Eigen::AngleAxisd(deg * std::numbers::pi / 180.0, axis).toRotationMatrix();
 		Rival &t = out[n];
 		t = {};
 		t.pose = turnedAbout(best, turn, point);
 		if (!(t.pose.t.z() > 0))
-			return;
+			return nullptr;
 		t.axis = axis;
 		t.distinct = meanTurnDistance(vertices, turn, point) > distinctMm;
-		++n;
+		return &out[n++];
 	};
 	for (const NearSymmetry &s : box.model.nearSymmetries()) {
+		const Eigen::Vector3d axis = s.axis.cast<double>();
 		if (s.continuous()) {
 			const int steps = std::max(2, static_cast<int>(std::lround(360.0 / std::max(cfg.stepDeg, 1.0f))));
 			for (int k = 1; k < steps; ++k)
-				add(s, 360.0 * k / steps);
+				add(s, axis, 360.0 * k / steps);
+			if (Rival *t = add(s, partSide(s, vertices), 180.0))
+				t->endOverEnd = true;
 		} else {
-			add(s, s.turnDeg);
+			add(s, axis, s.turnDeg);
 			if (std::abs(s.turnDeg - 180.0f) > 1e-3f)
-				add(s, -s.turnDeg);
+				add(s, axis, -s.turnDeg);
 		}
 	}
 	return n;
@@ -268,7 +291,7 @@ void SymmetryRivalSource::reportComparisons(const ProposalBox &box, const char *
 	for (size_t k = 0; k < rivals.size(); ++k) {
 		const Rival &t = rivals[k];
 		ComparisonEvent e;
-		e.kind = kind;
+		e.kind = t.endOverEnd ? "end_over_end" : kind;
 		e.round = round;
 		e.rank = static_cast<int>(k);
 		e.rival = t.pose;
@@ -381,7 +404,7 @@ Hypothesis SymmetryRivalSource::propose(ProposalBox &box, const Hypothesis &best
 		int distinctTurns = 0, beaten = 0;
 		for (size_t k = 0; k < n; ++k) {
 			const Rival &t = rivals[k];
-			if (!t.distinct || t.reported)
+			if (!t.distinct || t.reported || t.endOverEnd)
 				continue;
 			++distinctTurns;
 			if (decisivelyBy(t.evidence.forA, t.evidence.forB, t.evidence.informative, certain)) {

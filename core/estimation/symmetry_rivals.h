@@ -4,20 +4,26 @@
 // The rival turns of a nearly symmetric object as a proposal source: the best
 // pose turned about each of the model's near-symmetries (near_symmetry.h;
 // every stepDeg about a continuous axis, the stored turn both ways round about
-// a discrete one), and the reported poses that are turns of it about a
-// continuous axis (at their own angle, between the steps), each compared with
-// the best on the pixels where their renders differ (part_evidence.h), not by
-// the whole-silhouette score on which they tie. First, when the budget has
-// room, the best is compared the same way with its close rivals: the
-// best-scoring hypotheses distinct from it and not its turns about a
-// continuous axis (the object upside down and slid along its axis covers less
-// of the depth but fits what it covers as well as the truth, whose turn it is
-// not); one the depth favours replaces it if, polished, it scores nearly as
-// well. A turn the depth favours (its part pixels ahead two to one,
-// preferredBy()) replaces the best (then polished, when a polish fits the
-// budget, and compared again with its own turns); the final comparison says
-// whether the best beat every distinct turn three to one (decisivelyBy():
-// decisive) or not (the part hidden: ambiguous, with that turn's axis).
+// a discrete one), a body of revolution also set end over end (a half-turn
+// through the trained point about the axis square to its own that points at
+// its part: seen from the side, a cup upside down fits the depth as well,
+// its handle where it was), and the reported poses that are turns of it
+// about a continuous axis (at their own angle, between the steps), each
+// compared with the best on the pixels where their renders differ
+// (part_evidence.h), not by the whole-silhouette score on which they tie.
+// First, when the budget has room, the best is compared the same way with
+// its close rivals: the best-scoring hypotheses distinct from it and not
+// its turns about a continuous axis (the object upside down and slid along
+// its axis covers less of the depth but fits what it covers as well as the
+// truth, whose turn it is not); one the depth favours replaces it if,
+// polished, it scores nearly as well. A turn the depth favours (its part
+// pixels ahead two to one, preferredBy()) replaces the best (then polished,
+// when a polish fits the budget, and compared again with its own turns);
+// the final comparison says whether the best beat every distinct turn about
+// a near-symmetry three to one (decisivelyBy(): decisive) or not (the part
+// hidden: ambiguous, with that turn's axis). The end-over-end turn is no
+// near-symmetry (training found the body upside down unlike itself from
+// above or below) and takes no part in that verdict.
 // Not in the paper.
 
 #include <span>
@@ -31,7 +37,7 @@
 namespace ihf {
 
 // Turns compared per round at most.
-inline constexpr int kMaxSymmetryTurns = 48;
+inline constexpr int kMaxSymmetryTurns = 56;
 // Turns polished per round at most.
 inline constexpr int kMaxSymmetryRivalsPolished = 8;
 // Close rivals compared at most.
@@ -78,10 +84,13 @@ private:
 		bool distinct = false; // its model points lie more than the confidence's distinct share away
 		bool reported = false; // a turn the estimator reported (reportedTurnsOf()): it may win, while
 				       // the verdict is the steps' and it is not polished again
+		bool endOverEnd = false; // the body set end over end (turnsOf()): it may win, while the
+					 // verdict is the near-symmetries' turns'
 		PartEvidence evidence; // A: the best, B: the rival
 		Hypothesis polished;   // the rival polished, when it was
 	};
-	// best's turns (at most out.size()); returns how many.
+	// best's turns and, about a continuous axis, its end-over-end turn (at
+	// most out.size()); returns how many.
 	static size_t turnsOf(ProposalBox &box, const Pose &best, std::span<Rival> out);
 	// best's turns that the estimator reported itself: the highest-scoring
 	// reported poses distinct from it that are its turns about a

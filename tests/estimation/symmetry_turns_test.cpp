@@ -12,7 +12,8 @@
 // observer.
 // The stage alone, given the cup upside down and slid along its axis as the
 // best, takes the truth among the reported poses unless its score lies far
-// below, and leaves a turn about the axis to the turns; a reported turn
+// below, and leaves a turn about the axis to the turns; given it upside
+// down in place, sets it upright by its end-over-end turn; a reported turn
 // between the turns' steps is compared at its own angle.
 
 #include <algorithm>
@@ -457,6 +458,31 @@ TEST_F(SymmetryTurns, ACloseRivalScoringFarBelowTheBestIsRefused)
 	const Hypothesis chosen = source.propose(scene.box(), best, {});
 	EXPECT_EQ(refused.poses.size(), 1u);
 	EXPECT_GT(addError(chosen.pose, gt, model_->mesh().vertices), 0.1 * model_->params().diameter);
+}
+
+TEST_F(SymmetryTurns, ACupUpsideDownInPlaceIsSetUpright)
+{
+	// The best is the cup upside down about its middle, its handle where
+	// the truth's is; no reported pose is near the truth and no turn about
+	// the cup's axis sets it upright. Its end-over-end turn does, and is
+	// no near-symmetry: the verdict stays the axis turns', decisive with
+	// the handle in view.
+	const Pose gt = uprightCup();
+	EstimatorConfig config;
+	config.icp = false;
+	config.symmetryTurns.closeRivals = 0;
+	CloseRivalBox scene(*model_, gt, config);
+	const Eigen::Matrix3d overTheHandle = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+	const Hypothesis best = scene.report(turnedAbout(gt, overTheHandle, Eigen::Vector3d(0, 0, 47)));
+	const double right = 0.1 * model_->params().diameter;
+	ASSERT_GT(addError(best.pose, gt, model_->mesh().vertices), right);
+	SymmetryRivalSource source;
+	const Hypothesis chosen = source.propose(scene.box(), best, {});
+	ASSERT_TRUE(chosen.valid);
+	EXPECT_TRUE(source.verdict().turned);
+	EXPECT_LT(addError(chosen.pose, gt, model_->mesh().vertices), 2.0);
+	EXPECT_TRUE(source.verdict().decisive);
+	EXPECT_FALSE(source.verdict().ambiguous);
 }
 
 TEST_F(SymmetryTurns, ATurnAboutTheAxisIsLeftToTheTurns)

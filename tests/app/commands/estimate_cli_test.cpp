@@ -294,7 +294,8 @@ TEST_F(EstimateCli, NeedsNoGroundTruth)
 
 // --trace on a nearly symmetric object (a cup, trained small with its
 // near-symmetry): each box's comparisons of the best with its turns about
-// the cup's axis, with the pixels that spoke for each, before its result.
+// the cup's axis and its end-over-end turn, with the pixels that spoke for
+// each, before its result.
 TEST_F(EstimateCli, TheTraceListsTheTurnsComparedForANearlySymmetricObject)
 {
 	const auto dir = *dir_ / "cup";
@@ -331,7 +332,7 @@ TEST_F(EstimateCli, TheTraceListsTheTurnsComparedForANearlySymmetricObject)
 		if (j["stage"] != "comparison")
 			continue;
 		const std::string kind = j["kind"];
-		EXPECT_TRUE(kind == "turn" || kind == "close_rival") << line;
+		EXPECT_TRUE(kind == "turn" || kind == "end_over_end" || kind == "close_rival") << line;
 		ASSERT_EQ(j["R"].size(), 9u) << line;
 		ASSERT_EQ(j["t"].size(), 3u) << line;
 		const int forBest = j["for_best"], forRival = j["for_rival"], informative = j["informative"];
@@ -348,6 +349,8 @@ TEST_F(EstimateCli, TheTraceListsTheTurnsComparedForANearlySymmetricObject)
 			++turns;
 			EXPECT_GT(std::abs(j["axis"][2].get<double>()), 0.99) << "about the cup's axis: " << line;
 		}
+		if (kind == "end_over_end")
+			EXPECT_LT(std::abs(j["axis"][2].get<double>()), 0.01) << "square to the cup's axis: " << line;
 	}
 	EXPECT_EQ(results, 2);
 }
