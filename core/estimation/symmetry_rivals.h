@@ -37,7 +37,7 @@
 namespace ihf {
 
 // Turns compared per round at most.
-inline constexpr int kMaxSymmetryTurns = 56;
+inline constexpr int kMaxSymmetryTurns = 48;
 // Turns polished per round at most.
 inline constexpr int kMaxSymmetryRivalsPolished = 8;
 // Close rivals compared at most.
